@@ -1,0 +1,19 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "common/gnuplot.hpp"
+
+#include "common/atomic_file.hpp"
+#include "common/process.hpp"
+
+namespace mixload {
+std::string runGnuplot(const std::filesystem::path& dir, const std::string& scriptName,
+                       const std::string& script) {
+    writeFileAtomic(dir / scriptName, script);
+    ProcessSpec spec;
+    spec.argv = {"gnuplot", scriptName};
+    spec.cwd = dir;
+    spec.log = dir / "gnuplot.log";
+    const int rc = runProcess(spec);
+    if (rc != 0) return "gnuplot exited with " + std::to_string(rc) + " (see " + spec.log.string() + ")";
+    return "";
+}
+}  // namespace mixload

@@ -1,0 +1,25 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "scene/collapse_scene.hpp"
+
+namespace mixload::run {
+
+struct CollapseJob {
+    scene::CollapseScene scene;
+    int np = 1;
+    std::filesystem::path out;  // empty: runs/collapse-<hash>[-np<N>]
+    bool progress = false;
+    bool reuse = true;          // return a finished run's result instead of running again
+};
+
+// Runs (or resumes, or reuses) a collapse and returns its result record, which is also written to
+// <run dir>/result.json. The scene must be valid; nothing is created before that is checked.
+nlohmann::json runCollapse(const CollapseJob& job);
+
+std::filesystem::path defaultCollapseDir(const scene::CollapseScene& s, int np);
+
+}  // namespace mixload::run

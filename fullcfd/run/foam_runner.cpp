@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "run/foam_runner.hpp"
+
+#include <chrono>
+#include <cstdlib>
+
+#include "common/process.hpp"
+#include "common/progress.hpp"
+
+namespace mixload::run {
+
+namespace fs = std::filesystem;
+
+std::vector<std::pair<std::string, std::string>> foamEnvironment() {
+    return {{"WM_PROJECT_DIR", "/usr/share/openfoam"},
+            {"FOAM_ETC", "/usr/share/openfoam/etc"},
+            {"FOAM_SIGFPE", "true"},
+            {"OMPI_ALLOW_RUN_AS_ROOT", "1"},
+            {"OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1"},
+            {"OMPI_MCA_rmaps_base_oversubscribe", "1"},
+            // No network fabric on these machines: keep Open MPI on shared memory + loopback.
+            {"OMPI_MCA_btl", "self,vader,tcp"},
+            {"OMPI_MCA_btl_tcp_if_include", "lo"},
+            {"OMPI_MCA_oob_tcp_if_include", "lo"}};
+}
+
+namespace {
+
+int run(const fs::path& caseDir, const std::vector<std::string>& argv, const std::string& logName,
+        const std::function<void(const std::string&)>& onLine = {}) {
+    ProcessSpec spec;
+    spec.argv = argv;
+    spec.cwd = caseDir;
+    spec.log = caseDir / logName;
+    spec.env = foamEnvironment();
+    spec.onLine = onLine;
+    return runProcess(spec);
+}
+
+void check(int rc, const fs::path& caseDir, const std::string& what, const std::string& logName) {
+    if (rc == 0) return;
+    throw RunError(what + " failed (exit " + std::to_string(rc) + "); last lines of " +
+                   (caseDir / logName).string() + ":\n" + tailLines(caseDir / logName, 25));
+}
+
+bool isTimeName(const std::string& s, double& value) {
+    char* end = nullptr;
+    value = std::strtod(s.c_str(), &end);
+    return !s.empty() && end && *end == '\0';
+}
+
+}  // namespace
+
+void runUtility(const fs::path& caseDir, const std::vector<std::string>& argv) {
+    const std::string logName = "log." + argv.front();
+    check(run(caseDir, argv, logName), caseDir, argv.front(), logName);
+}
+
+double latestTime(const fs::path& caseDir) {
+    double latest = 0;
+    if (!fs::exists(caseDir)) return latest;
+    for (const auto& e : fs::directory_iterator(caseDir)) {
+        double t;
+        if (e.is_directory() && isTimeName(e.path().filename().string(), t) && t > latest) latest = t;
+    }
+    return latest;
+}
+
+double runSolver(const SolverRun& r) {
+    const auto start = std::chrono::steady_clock::now();
+    Progress bar(r.label, r.progress);
+    auto onLine = [&](const std::string& line) {
+        if (line.rfind("Time = ", 0) == 0) {
+            const double t = std::atof(line.c_str() + 7);
+            bar.update(t / r.endTime, "t = " + line.substr(7) + " s");
+        }
+    };
+    const std::string logName = "log." + r.solver;
+    if (r.np <= 1) {
+        check(run(r.caseDir, {r.solver}, logName, onLine), r.caseDir, r.solver, logName);
+    } else {
+        if (!fs::exists(r.caseDir / "processor0")) {
+            runUtility(r.caseDir, {"decomposePar", "-force"});
+        }
+        check(run(r.caseDir,
+                  {"mpirun", "-np", std::to_string(r.np), r.solver, "-parallel"}, logName, onLine),
+              r.caseDir, "mpirun " + r.solver, logName);
+        runUtility(r.caseDir, {"reconstructPar", "-newTimes"});
+    }
+    bar.finish();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace mixload::run

@@ -1,0 +1,39 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace mixload::run {
+
+// A solver or utility that failed; what() carries the tail of its log.
+class RunError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+// Environment Debian's OpenFOAM binaries need, plus Open MPI's consent to run as root (CI is root).
+std::vector<std::pair<std::string, std::string>> foamEnvironment();
+
+// Runs an OpenFOAM utility in caseDir, logging to log.<name>; throws RunError on failure.
+void runUtility(const std::filesystem::path& caseDir, const std::vector<std::string>& argv);
+
+struct SolverRun {
+    std::filesystem::path caseDir;
+    std::string solver = "interFoam";
+    int np = 1;
+    double endTime = 1.0;   // for progress only
+    bool progress = false;  // show percentage/ETA on a terminal
+    std::string label = "run";
+};
+
+// Runs the solver to completion (serial, or decomposePar + mpirun + reconstructPar). Resumes from
+// the latest written time when the case already ran. Returns wall seconds spent in this call.
+double runSolver(const SolverRun& r);
+
+// Latest time directory (numeric name) of a case, or 0 if none past 0.
+double latestTime(const std::filesystem::path& caseDir);
+
+}  // namespace mixload::run

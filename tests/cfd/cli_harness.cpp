@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "cli_harness.hpp"
+
+#include <unistd.h>
+
+#include "common/atomic_file.hpp"
+#include "common/process.hpp"
+
+namespace mixload::testing {
+
+namespace fs = std::filesystem;
+
+fs::path scratchDir(const std::string& name) {
+    const fs::path d = fs::temp_directory_path() / ("mixload-test-" + std::to_string(::getpid())) / name;
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+CliResult runMixload(const std::vector<std::string>& args) {
+    const fs::path err = scratchDir("stderr") / "err.txt";
+    std::string cmd = "exec \"$0\"";
+    for (size_t i = 0; i < args.size(); ++i) cmd += " \"$" + std::to_string(i + 1) + "\"";
+    cmd += " 2>" + err.string();
+    ProcessSpec spec;
+    spec.argv = {"sh", "-c", cmd, MIXLOAD_EXE};
+    spec.argv.insert(spec.argv.end(), args.begin(), args.end());
+    CliResult r;
+    spec.onLine = [&](const std::string& l) { r.out += l + "\n"; };
+    r.rc = runProcess(spec);
+    r.err = readFile(err);
+    return r;
+}
+
+}  // namespace mixload::testing

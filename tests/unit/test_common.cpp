@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "common/atomic_file.hpp"
+#include "common/hash.hpp"
+#include "common/input_error.hpp"
+#include "common/process.hpp"
+
+using namespace mixload;
+
+TEST(Common, StableHashKnownValue) {
+    // FNV-1a 64 of "" and "a" (published test vectors).
+    EXPECT_EQ(stableHash(""), "cbf29ce484222325");
+    EXPECT_EQ(stableHash("a"), "af63dc4c8601ec8c");
+}
+
+TEST(Common, RequireRangeMessages) {
+    EXPECT_NO_THROW(requireRange("x", 1.0, 0.0, 2.0));
+    try {
+        requirePositive("d", 0.0);
+        FAIL();
+    } catch (const InputError& e) {
+        EXPECT_STREQ(e.what(), "invalid d = 0: allowed > 0");
+    }
+    EXPECT_THROW(requireRange("x", std::nan(""), 0.0, 2.0), InputError);
+}
+
+TEST(Common, AtomicWriteLeavesNoTemp) {
+    const auto dir = std::filesystem::temp_directory_path() / "mixload_atomic_test";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    writeFileAtomic(dir / "f.txt", "hello");
+    writeFileAtomic(dir / "f.txt", "world");
+    EXPECT_EQ(readFile(dir / "f.txt"), "world");
+    int n = 0;
+    for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++n;
+    EXPECT_EQ(n, 1);
+    std::filesystem::remove_all(dir);
+}
+
+TEST(Common, RunProcessCapturesLinesAndExitCode) {
+    std::vector<std::string> lines;
+    ProcessSpec spec;
+    spec.argv = {"sh", "-c", "echo one; echo two; exit 3"};
+    spec.onLine = [&](const std::string& l) { lines.push_back(l); };
+    EXPECT_EQ(runProcess(spec), 3);
+    ASSERT_EQ(lines.size(), 2u);
+    EXPECT_EQ(lines[1], "two");
+}
