@@ -10,4 +10,5 @@ using Action = std::function<int()>;
 void addInfo(CLI::App& app, Action& action);
 void addCollapse(CLI::App& app, Action& action);
 void addBench(CLI::App& app, Action& action);
+void addStudy(CLI::App& app, Action& action);
 }  // namespace mixload::app

@@ -18,6 +18,8 @@ std::vector<std::pair<std::string, std::string>> foamEnvironment() {
             {"OMPI_ALLOW_RUN_AS_ROOT", "1"},
             {"OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1"},
             {"OMPI_MCA_rmaps_base_oversubscribe", "1"},
+            // Ranks yield the core while waiting: CI shares 2 cores with other work.
+            {"OMPI_MCA_mpi_yield_when_idle", "1"},
             // No network fabric on these machines: keep Open MPI on shared memory + loopback.
             {"OMPI_MCA_btl", "self,vader,tcp"},
             {"OMPI_MCA_btl_tcp_if_include", "lo"},

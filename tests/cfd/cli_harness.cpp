@@ -20,7 +20,7 @@ fs::path scratchDir(const std::string& name) {
 CliResult runMixload(const std::vector<std::string>& args) {
     const fs::path err = scratchDir("stderr") / "err.txt";
     std::string cmd = "exec \"$0\"";
-    for (size_t i = 0; i < args.size(); ++i) cmd += " \"$" + std::to_string(i + 1) + "\"";
+    for (size_t i = 0; i < args.size(); ++i) cmd += " \"${" + std::to_string(i + 1) + "}\"";
     cmd += " 2>" + err.string();
     ProcessSpec spec;
     spec.argv = {"sh", "-c", cmd, MIXLOAD_EXE};

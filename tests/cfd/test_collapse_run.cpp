@@ -20,13 +20,17 @@ nlohmann::json runTiny(int np) {
     return r.rc == 0 ? nlohmann::json::parse(r.out) : nlohmann::json{};
 }
 
+// One serial run per test process, shared by the tests in it; a failed run fails every test
+// (it must never turn into a skip).
 class TinyCollapse : public ::testing::Test {
 protected:
-    static void SetUpTestSuite() { serial_ = new nlohmann::json(runTiny(1)); }
-    static void TearDownTestSuite() { delete serial_; }
-    static nlohmann::json* serial_;
+    void SetUp() override {
+        static const nlohmann::json serial = runTiny(1);
+        serial_ = &serial;
+        ASSERT_FALSE(serial.is_null()) << "the serial tiny collapse failed";
+    }
+    const nlohmann::json* serial_ = nullptr;
 };
-nlohmann::json* TinyCollapse::serial_ = nullptr;
 }  // namespace
 
 TEST_F(TinyCollapse, ReportsEveryField) {
