@@ -38,7 +38,8 @@ nlohmann::json runCollapse(const CollapseJob& job) {
     }
 
     const auto t0 = std::chrono::steady_clock::now();
-    bool fresh = !fs::exists(dir / "constant" / "polyMesh");
+    // --rerun starts over; otherwise a case that has a mesh resumes from its latest time.
+    const bool fresh = !job.reuse || !fs::exists(dir / "constant" / "polyMesh");
     if (fresh) {
         // Build the case in a sibling temp dir and rename it into place: a directory under the
         // final name always holds a complete case.
