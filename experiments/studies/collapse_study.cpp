@@ -21,8 +21,6 @@ namespace mixload::experiments {
 
 namespace fs = std::filesystem;
 
-double lajeunesseRunout(double a) { return scene::runoutEstimate(a); }
-
 namespace {
 
 std::string seriesName(const scene::CollapseScene& s, bool byAspect) {

@@ -23,7 +23,4 @@ struct CollapseStudy {
 // Runs the study and writes <out>/table.csv, <out>/table.md and <out>/study.png. Returns the rows.
 nlohmann::json runCollapseStudy(const CollapseStudy& study);
 
-// Lajeunesse, Monnier & Homsy (2005) runout fit for glass beads: 1.2 a (a < 3), 1.9 a^(2/3).
-double lajeunesseRunout(double aspect);
-
 }  // namespace mixload::experiments
