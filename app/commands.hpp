@@ -11,4 +11,5 @@ void addInfo(CLI::App& app, Action& action);
 void addCollapse(CLI::App& app, Action& action);
 void addBench(CLI::App& app, Action& action);
 void addStudy(CLI::App& app, Action& action);
+void addMixer(CLI::App& app, Action& action);
 }  // namespace mixload::app

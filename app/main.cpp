@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
     mixload::app::Action action;
     mixload::app::addInfo(app, action);
     mixload::app::addCollapse(app, action);
+    mixload::app::addMixer(app, action);
     mixload::app::addBench(app, action);
     mixload::app::addStudy(app, action);
     try {

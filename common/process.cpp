@@ -23,7 +23,11 @@ int runProcess(const ProcessSpec& spec) {
         ::dup2(fds[1], STDOUT_FILENO);
         ::dup2(fds[1], STDERR_FILENO);
         ::close(fds[1]);
-        if (!spec.cwd.empty() && ::chdir(spec.cwd.c_str()) != 0) _exit(127);
+        if (!spec.cwd.empty()) {
+            if (::chdir(spec.cwd.c_str()) != 0) _exit(127);
+            // OpenFOAM warns on every stack frame when PWD disagrees with the real cwd.
+            ::setenv("PWD", spec.cwd.c_str(), 1);
+        }
         for (const auto& [k, v] : spec.env) ::setenv(k.c_str(), v.c_str(), 1);
         std::vector<char*> args;
         for (const auto& a : spec.argv) args.push_back(const_cast<char*>(a.c_str()));

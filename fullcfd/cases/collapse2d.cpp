@@ -94,21 +94,9 @@ std::string controlDict(const scene::CollapseScene& s, const std::string& libs) 
 }
 
 std::string transportProperties(const scene::CollapseScene& s) {
-    std::ostringstream os;
     const auto& m = s.material;
-    os << "phases (powder air);\n\npowder\n{\n    transportModel " << s.rheology << ";\n"
-       << "    rho " << num(m.bulkDensity()) << ";\n    " << s.rheology << "Coeffs\n    {\n";
-    if (s.rheology == "schaeffer") {
-        os << "        mu " << num(s.muSCase()) << ";  // constant friction: the material's mu_s\n";
-    } else {
-        os << "        muS " << num(s.muSCase()) << ";\n        muD " << num(s.muDCase()) << ";\n"
-           << "        I0 " << num(m.I0) << ";\n        d " << num(m.grainDiameter) << ";\n"
-           << "        rhoS " << num(m.grainDensity) << ";\n";
-    }
-    os << "        etaMax " << num(s.etaMaxValue()) << ";\n        pMin " << num(s.pMin) << ";\n"
-       << "    }\n}\n\nair\n{\n    transportModel Newtonian;\n    nu 1.5e-05;\n    rho 1.2;\n}\n\n"
-       << "sigma 0;\n";
-    return os.str();
+    return cases::transportProperties({s.rheology, s.material.bulkDensity(), s.muSCase(), s.muDCase(), m.I0,
+                                        m.grainDiameter, m.grainDensity, s.etaMaxValue(), s.pMin});
 }
 
 }  // namespace

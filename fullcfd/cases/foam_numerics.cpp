@@ -2,6 +2,9 @@
 #include "cases/foam_numerics.hpp"
 
 #include <cstdlib>
+#include <sstream>
+
+#include "cases/foam_dict.hpp"
 
 namespace mixload::cases {
 
@@ -53,6 +56,23 @@ std::string interFoamSolution(const std::string& alphaName) {
 std::string decomposeParDict(int np) {
     return "numberOfSubdomains " + std::to_string(np) +
            ";\nmethod simple;\ncoeffs { n (" + std::to_string(np) + " 1 1); }\n";
+}
+
+std::string transportProperties(const PowderTransport& t) {
+    std::ostringstream os;
+    os << "phases (powder air);\n\npowder\n{\n    transportModel " << t.rheology << ";\n"
+       << "    rho " << num(t.bulkDensity) << ";\n    " << t.rheology << "Coeffs\n    {\n";
+    if (t.rheology == "schaeffer") {
+        os << "        mu " << num(t.muS) << ";  // constant friction: the material's mu_s\n";
+    } else {
+        os << "        muS " << num(t.muS) << ";\n        muD " << num(t.muD) << ";\n"
+           << "        I0 " << num(t.I0) << ";\n        d " << num(t.grainDiameter) << ";\n"
+           << "        rhoS " << num(t.grainDensity) << ";\n";
+    }
+    os << "        etaMax " << num(t.etaMax) << ";\n        pMin " << num(t.pMin) << ";\n"
+       << "    }\n}\n\nair\n{\n    transportModel Newtonian;\n    nu 1.5e-05;\n    rho 1.2;\n}\n\n"
+       << "sigma 0;\n";
+    return os.str();
 }
 
 }  // namespace mixload::cases

@@ -7,6 +7,14 @@ namespace mixload::cases {
 std::string interFoamSchemes();
 std::string interFoamSolution(const std::string& alphaName);
 std::string decomposeParDict(int np);
+
+// The powder phase as our rheology library reads it (friction values already in the case's
+// convention), plus air. Shared by every scene.
+struct PowderTransport {
+    std::string rheology;  // muI | muIRegularised | schaeffer
+    double bulkDensity, muS, muD, I0, grainDiameter, grainDensity, etaMax, pMin;
+};
+std::string transportProperties(const PowderTransport& t);
 // The libs entry for controlDict: absolute paths of mixload's OpenFOAM libraries.
 std::string mixloadFoamLibs();
 std::string rheologyLibraryPath();

@@ -9,6 +9,7 @@
 
 #include "cases/collapse2d.hpp"
 #include "common/gnuplot.hpp"
+#include "post/monitor_history.hpp"
 #include "run/foam_runner.hpp"
 
 namespace mixload::post {
@@ -22,25 +23,10 @@ fs::path monitorDir(const fs::path& caseDir) {
 }  // namespace
 
 std::vector<CollapseSample> readCollapseHistory(const fs::path& caseDir) {
-    std::map<double, fs::path> segments;  // start time -> file
-    if (fs::exists(monitorDir(caseDir)))
-        for (const auto& e : fs::directory_iterator(monitorDir(caseDir))) {
-            const auto f = e.path() / "collapse.dat";
-            if (e.is_directory() && fs::exists(f))
-                segments[std::atof(e.path().filename().c_str())] = f;
-        }
-    std::vector<CollapseSample> out;
-    for (const auto& [start, file] : segments) {
-        while (!out.empty() && out.back().t > start + 1e-12) out.pop_back();
-        std::ifstream is(file);
-        std::string line;
-        while (std::getline(is, line)) {
-            if (line.empty() || line[0] == '#') continue;
-            std::istringstream ls(line);
-            CollapseSample s{};
-            if (ls >> s.t >> s.volume >> s.kineticEnergy >> s.front >> s.height) out.push_back(s);
-        }
-    }
+    auto out = readSegments<CollapseSample>(
+        monitorDir(caseDir), "collapse.dat", [](std::istream& is, CollapseSample& s) {
+            return static_cast<bool>(is >> s.t >> s.volume >> s.kineticEnergy >> s.front >> s.height);
+        });
     if (out.empty())
         throw run::RunError("no collapse monitor history in " + monitorDir(caseDir).string());
     return out;

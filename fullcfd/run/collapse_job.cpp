@@ -6,9 +6,9 @@
 #include "cases/collapse2d.hpp"
 #include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
-#include "mixload_version.hpp"
 #include "post/collapse_results.hpp"
 #include "run/foam_runner.hpp"
+#include "run/run_dir.hpp"
 
 namespace mixload::run {
 
@@ -23,41 +23,18 @@ nlohmann::json runCollapse(const CollapseJob& job) {
     s.validate();
     requireRange("np", job.np, 1, 256);
     const fs::path dir = fs::absolute(job.out.empty() ? defaultCollapseDir(s, job.np) : job.out);
-    const fs::path sceneFile = dir / "scene.json";
-
-    if (fs::exists(dir)) {
-        if (!fs::exists(sceneFile) ||
-            nlohmann::json::parse(readFile(sceneFile)).value("hash", "") != s.hash())
-            throw InputError("out", dir.string(),
-                             "a new directory or a run directory of the same scene");
-        if (job.reuse && fs::exists(dir / "result.json")) {
-            auto r = nlohmann::json::parse(readFile(dir / "result.json"));
-            r["reused"] = true;
-            return r;
-        }
-    }
+    if (auto done = checkRunDir(dir, s.hash(), job.reuse)) return *done;
 
     const auto t0 = std::chrono::steady_clock::now();
     // --rerun starts over; otherwise a case that has a mesh resumes from its latest time.
     const bool fresh = !job.reuse || !fs::exists(dir / "constant" / "polyMesh");
     if (fresh) {
-        // Build the case in a sibling temp dir and rename it into place: a directory under the
-        // final name always holds a complete case.
-        fs::path tmp = dir;
-        tmp += ".tmp";
-        fs::remove_all(tmp);
-        fs::create_directories(tmp);
-        try {
+        buildCaseAtomically(dir, [&](const fs::path& tmp) {
             cases::writeCollapseCase(s, tmp, job.np);
             writeFileAtomic(tmp / "scene.json",
                             nlohmann::json{{"hash", s.hash()}, {"scene", s.toJson()}}.dump(2));
             runUtility(tmp, {"blockMesh"});
-        } catch (...) {
-            fs::remove_all(tmp);
-            throw;
-        }
-        fs::remove_all(dir);
-        fs::rename(tmp, dir);
+        });
     }
 
     SolverRun r;
@@ -74,11 +51,7 @@ nlohmann::json runCollapse(const CollapseJob& job) {
     result["solver_wall_seconds"] = solverWall;
     result["np"] = job.np;
     result["resumed"] = !fresh;
-    result["run_dir"] = dir.string();
-    result["scene_hash"] = s.hash();
-    result["mixload_version"] = kVersion;
-    result["git_commit"] = kGitCommit;
-    result["openfoam_version"] = MIXLOAD_OPENFOAM_VERSION;
+    stampProvenance(result, dir, s.hash());
     const std::string warn = post::plotCollapse(s, dir);
     result["plot"] = warn.empty() ? (dir / "collapse.png").string() : "";
     if (!warn.empty()) result["plot_warning"] = warn;

@@ -1,0 +1,61 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <iomanip>
+#include <iostream>
+
+#include "app/commands.hpp"
+#include "app/mixer_options.hpp"
+#include "run/mixer_job.hpp"
+
+namespace mixload::app {
+
+namespace {
+struct MixerCmd {
+    MixerOptions scene;
+    int np = 1;
+    std::string out;
+    bool json = false;
+    bool rerun = false;
+};
+}  // namespace
+
+void addMixer(CLI::App& app, Action& action) {
+    auto* cmd = app.add_subcommand(
+        "mixer", "Run the 3D continuous mixer (mu(I) powder + air) to a steady loading");
+    auto o = std::make_shared<MixerCmd>();
+    o->scene.add(cmd);
+    cmd->add_option("--np", o->np, "MPI ranks (OpenFOAM decomposition)")->capture_default_str();
+    cmd->add_option("--out", o->out, "Run directory (default runs/mixer-<scene hash>); resumes");
+    cmd->add_flag("--rerun", o->rerun, "Run again even if the run directory holds a finished result");
+    cmd->add_flag("--json", o->json, "Print the result as JSON");
+    cmd->callback([&action, o] {
+        action = [o] {
+            run::MixerJob job;
+            job.scene = o->scene.build();
+            job.np = o->np;
+            job.out = o->out;
+            job.progress = !o->json;
+            job.reuse = !o->rerun;
+            const auto r = run::runMixer(job);
+            if (o->json) {
+                std::cout << r.dump(2) << '\n';
+                return 0;
+            }
+            const auto& s = job.scene;
+            std::cout << std::setprecision(4) << "mixer " << s.name << ", " << s.method << ", "
+                      << s.rpm << " rpm, feed " << s.feedKgH << " kg/h, " << r["cells"]
+                      << " cells, np = " << job.np << "\n  loading M = "
+                      << r["loading_kg"].get<double>() << " kg (std "
+                      << r["loading_std_kg"].get<double>() << " kg over the final window)"
+                      << "\n  steady: " << (r["steady"].get<bool>() ? "yes" : "NO (cap reached)")
+                      << "\n  outflow " << r["outflow_kg_h"].get<double>() << " kg/h"
+                      << "\n  powder balance error " << r["powder_balance_error"].get<double>()
+                      << "\n  wall " << r["wall_seconds"].get<double>() << " s, core "
+                      << r["core_seconds"].get<double>() << " s"
+                      << "\n  run dir " << r["run_dir"].get<std::string>() << "\n  plot "
+                      << r["plot"].get<std::string>() << '\n';
+            return 0;
+        };
+    });
+}
+
+}  // namespace mixload::app

@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "app/mixer_options.hpp"
+
+#include "common/input_error.hpp"
+
+namespace mixload::app {
+
+void MixerOptions::add(CLI::App* cmd, bool withMethod) {
+    cmd->add_option("--scene", scene, "Scene: gcm250 (shipped) or a scene .toml file")
+        ->capture_default_str();
+    if (withMethod)
+        cmd->add_option("--method", method,
+                        "mrf (frozen rotor, transient) | lts (MRF + local time stepping, "
+                        "pseudo-steady) | sm (sliding mesh, AMI); default mrf");
+    cmd->add_option("--mesh", mesh, "coarse | medium | fine (cell sizes in the scene file)");
+    cmd->add_option("--cell-size", cellSize, "Explicit background cell size [m] (instead of --mesh)");
+    cmd->add_option("--rpm", rpm, "Impeller speed [rev/min]");
+    cmd->add_option("--feed-kg-h", feedKgH, "Powder feed rate [kg/h]");
+    cmd->add_option("--mu-s", muS, "Override mu_s (in the scene's convention)");
+    cmd->add_option("--mu-d", muD, "Override mu_d (> mu_s)");
+    cmd->add_option("--i0", I0, "Override I0");
+    cmd->add_option("--d", d, "Override the grain diameter d [m] (SI: 240e-6 for 240 um)");
+    cmd->add_option("--rho", rho,
+                    "Override the bulk density [kg/m3]; the grain density follows as rho / phi");
+    cmd->add_option("--rheology", rheology, "muI | muIRegularised | schaeffer");
+    cmd->add_option("--convention", convention, "standard | paper (see README)");
+    cmd->add_option("--eta-max", etaMax, "Viscosity cap [Pa s] (default: Rauter with H = bore)");
+    cmd->add_option("--initial-loading-kg", initialLoadingKg,
+                    "Powder deposited uniformly at the bottom at t = 0 [kg]");
+    cmd->add_option("--end-time", endTime, "Cap on simulated time [s] (mrf, sm)");
+    cmd->add_option("--lts-iterations", ltsIterations, "Cap on pseudo-time iterations (lts)");
+    cmd->add_option("--steady-window-revs", window,
+                    "Steady test window [revolutions]: two consecutive windows compared");
+    cmd->add_option("--steady-tol", tol, "Steady: window means agree within this fraction");
+    cmd->add_option("--steady-flow-tol", flowTol,
+                    "Steady: mean outflow within this fraction of the feed");
+    cmd->add_option("--min-time", minTime, "No steady verdict before this time [s]");
+}
+
+scene::MixerScene MixerOptions::build() const {
+    scene::MixerScene s = scene::loadMixerScene(scene);
+    if (method) s.method = *method;
+    if (mesh) s.setMesh(*mesh);
+    if (cellSize) {
+        if (mesh) throw InputError("cell-size", formatNumber(*cellSize), "either --mesh or --cell-size, not both");
+        s.mesh = "custom";
+        s.cellSize = *cellSize;
+    }
+    if (rpm) s.rpm = *rpm;
+    if (feedKgH) s.feedKgH = *feedKgH;
+    if (muS) s.material.muS = *muS;
+    if (muD) s.material.muD = *muD;
+    if (I0) s.material.I0 = *I0;
+    if (d) s.material.grainDiameter = *d;
+    if (rho) {
+        requireRange("rho", *rho, 0.0, 20000.0, false, true);
+        s.material.grainDensity = *rho / s.material.solidFraction;
+    }
+    if (muS || muD || I0 || d || rho) s.material.name += "-modified";
+    if (rheology) s.rheology = *rheology;
+    if (convention) s.convention = *convention;
+    if (etaMax) s.etaMax = *etaMax;
+    if (initialLoadingKg) s.initialLoadingKg = *initialLoadingKg;
+    if (endTime) s.endTime = *endTime;
+    if (ltsIterations) s.ltsIterations = *ltsIterations;
+    if (window) s.steadyWindowRevs = *window;
+    if (tol) s.steadyTol = *tol;
+    if (flowTol) s.steadyFlowTol = *flowTol;
+    if (minTime) s.minTime = *minTime;
+    s.validate();
+    return s;
+}
+
+}  // namespace mixload::app

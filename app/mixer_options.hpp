@@ -1,0 +1,26 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Command-line options that describe a mixer run, shared by `mixer` and `bench mixer`.
+#pragma once
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "scene/mixer_scene.hpp"
+
+namespace mixload::app {
+
+struct MixerOptions {
+    std::string scene = "gcm250";
+    std::optional<std::string> method, mesh, rheology, convention;
+    std::optional<double> rpm, feedKgH, muS, muD, I0, d, rho, initialLoadingKg, endTime, cellSize,
+        etaMax, window, tol, flowTol, minTime;
+    std::optional<int> ltsIterations;
+
+    void add(CLI::App* cmd, bool withMethod = true);
+    // Loads the scene file, applies the flags, validates: throws InputError before anything is
+    // written.
+    scene::MixerScene build() const;
+};
+
+}  // namespace mixload::app

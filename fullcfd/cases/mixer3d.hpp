@@ -1,0 +1,28 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The 3D continuous mixer as an interFoam case: generated surfaces, blockMesh + snappyHexMesh, a
+// rotating cellZone used by MRF (mrf, lts) or turned as a sliding mesh with AMI (sm).
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "scene/mixer_scene.hpp"
+
+namespace mixload::cases {
+
+inline constexpr const char* kLoadingMonitor = "loading";
+
+// Writes surfaces and every dictionary the meshing needs (blockMesh, snappyHexMesh, createBaffles).
+void writeMixerMeshCase(const scene::MixerScene& s, const std::filesystem::path& caseDir, int np);
+
+// The utilities that turn the written case into the final mesh, in order.
+std::vector<std::vector<std::string>> mixerMeshSteps(const scene::MixerScene& s);
+
+// Writes the solver dictionaries and the 0/ fields (after meshing, so fields see the final
+// patches), and setFieldsDict for the initial deposit.
+void writeMixerSolverCase(const scene::MixerScene& s, const std::filesystem::path& caseDir, int np);
+
+// Height of the initial deposit surface (z) for the scene's initial loading.
+double initialBedHeight(const scene::MixerScene& s);
+
+}  // namespace mixload::cases

@@ -1,0 +1,142 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "post/mixer_results.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
+
+#include "cases/mixer3d.hpp"
+#include "common/atomic_file.hpp"
+#include "common/gnuplot.hpp"
+#include "post/monitor_history.hpp"
+#include "run/foam_runner.hpp"
+#include "steadyLoading.H"
+
+namespace mixload::post {
+
+namespace fs = std::filesystem;
+
+namespace {
+fs::path monitorDir(const fs::path& caseDir) {
+    return caseDir / "postProcessing" / cases::kLoadingMonitor;
+}
+}  // namespace
+
+std::vector<LoadingSample> readLoadingHistory(const fs::path& caseDir) {
+    auto out = readSegments<LoadingSample>(
+        monitorDir(caseDir), "loading.dat", [](std::istream& is, LoadingSample& s) {
+            return static_cast<bool>(is >> s.t >> s.loading >> s.inflow >> s.outflow >> s.fed >> s.out);
+        });
+    if (out.empty()) throw run::RunError("no loading history in " + monitorDir(caseDir).string());
+    return out;
+}
+
+std::optional<nlohmann::json> readSteadyVerdict(const fs::path& caseDir) {
+    const fs::path f = monitorDir(caseDir) / "steady";
+    if (!fs::exists(f)) return std::nullopt;
+    nlohmann::json v = nlohmann::json::object();
+    std::ifstream is(f);
+    std::string key;
+    double value;
+    while (is >> key >> value) v[key] = value;
+    if (!v.contains("loading_kg")) return std::nullopt;
+    return v;
+}
+
+nlohmann::json readCheckMesh(const fs::path& caseDir) {
+    const std::string log = readFile(caseDir / "log.checkMesh");
+    nlohmann::json m = nlohmann::json::object();
+    std::smatch r;
+    if (std::regex_search(log, r, std::regex(R"(\n\s*cells:\s+(\d+))"))) m["cells"] = std::stol(r[1]);
+    if (std::regex_search(log, r, std::regex(R"(Mesh non-orthogonality Max:\s*([0-9.eE+-]+))")))
+        m["max_non_orthogonality_deg"] = std::stod(r[1]);
+    if (std::regex_search(log, r, std::regex(R"(Max skewness = ([0-9.eE+-]+))")))
+        m["max_skewness"] = std::stod(r[1]);
+    m["ok"] = log.find("Mesh OK.") != std::string::npos;
+    m["failed_checks"] = 0;
+    if (std::regex_search(log, r, std::regex(R"(Failed (\d+) mesh checks)")))
+        m["failed_checks"] = std::stoi(r[1]);
+    return m;
+}
+
+nlohmann::json mixerResult(const scene::MixerScene& s, const fs::path& caseDir) {
+    const auto hist = readLoadingHistory(caseDir);
+    const auto verdict = readSteadyVerdict(caseDir);
+    const bool lts = s.method == "lts";
+    std::vector<double> t, M, C;
+    for (const auto& h : hist) {
+        t.push_back(h.t);
+        M.push_back(h.loading);
+        C.push_back(h.out);
+    }
+    // The final window: the steady test's window, or as much of it as the run has.
+    const double end = t.back();
+    const double W = std::min(s.steadyWindow(), end - t.front());
+    double mean = M.back(), stdev = 0, outflow = hist.back().outflow;
+    if (W > 0) {
+        mean = steady::windowMean(t, M, end - W, end);
+        const double sq = [&] {
+            std::vector<double> d2;
+            for (double m : M) d2.push_back((m - mean) * (m - mean));
+            return steady::windowMean(t, d2, end - W, end);
+        }();
+        stdev = std::sqrt(std::max(0.0, sq));
+        outflow = (steady::interpolate(t, C, end) - steady::interpolate(t, C, end - W)) / W;
+    }
+    const auto& first = hist.front();
+    const auto& last = hist.back();
+    // Powder balance: what came in minus what went out must be what the mixer gained. Relative to
+    // the powder that passed through (or to the loading when nothing was fed).
+    const double gained = last.loading - first.loading;
+    const double fedSinceStart = last.fed - first.fed, outSinceStart = last.out - first.out;
+    const double scale = std::max(fedSinceStart, std::max(1e-12, first.loading));
+    nlohmann::json history = nlohmann::json::array();
+    const size_t stride = std::max<size_t>(1, hist.size() / 400);
+    for (size_t i = 0; i < hist.size(); i += stride) history.push_back({hist[i].t, hist[i].loading});
+    if ((hist.size() - 1) % stride != 0) history.push_back({last.t, last.loading});
+
+    nlohmann::json r{{"method", s.method},
+                     {"loading_kg", mean},
+                     {"loading_std_kg", stdev},
+                     {"steady", verdict.has_value()},
+                     {"steady_time_s", verdict ? nlohmann::json((*verdict)["time"]) : nlohmann::json()},
+                     {"outflow_kg_h", outflow * 3600.0},
+                     {"feed_kg_h", s.feedKgH},
+                     {"rpm", s.rpm},
+                     {"initial_loading_kg", first.loading},
+                     {"end_time_s", end},
+                     {"window", W},
+                     {"time_unit", lts ? "iteration" : "s"},
+                     {"powder_balance_error", (gained - (fedSinceStart - outSinceStart)) / scale},
+                     {"fed_kg", fedSinceStart},
+                     {"out_kg", outSinceStart},
+                     {"history", history}};
+    if (!lts) r["revolutions"] = end / s.revolutionTime();
+    if (verdict) r["steady_verdict"] = *verdict;
+    return r;
+}
+
+std::string plotLoading(const scene::MixerScene& s, const fs::path& caseDir) {
+    const auto hist = readLoadingHistory(caseDir);
+    {
+        std::ofstream os(caseDir / "loading_history.dat");
+        os << "# t loading_kg outflow_kg_h\n";
+        for (const auto& h : hist) os << h.t << ' ' << h.loading << ' ' << h.outflow * 3600 << '\n';
+    }
+    const std::string tl = s.method == "lts" ? "pseudo-time iteration" : "t [s]";
+    std::ostringstream gp;
+    gp << "set terminal pngcairo size 1000,700 noenhanced\nset output 'loading.png'\n"
+       << "set multiplot layout 2,1 title '" << s.name << ", " << s.method << ", " << s.rpm
+       << " rpm, feed " << s.feedKgH << " kg/h, " << s.mesh << " mesh'\n"
+       << "set grid\nset xlabel '" << tl << "'\nset ylabel 'mixer loading M [kg]'\n"
+       << "plot 'loading_history.dat' using 1:2 with lines lw 2 title 'M'\n"
+       << "set ylabel 'powder flow [kg/h]'\n"
+       << "plot 'loading_history.dat' using 1:3 with lines title 'outflow', " << s.feedKgH
+       << " with lines dt 2 lw 2 title 'feed'\n"
+       << "unset multiplot\n";
+    return runGnuplot(caseDir, "loading.gp", gp.str());
+}
+
+}  // namespace mixload::post

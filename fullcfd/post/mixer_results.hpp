@@ -1,0 +1,33 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "scene/mixer_scene.hpp"
+
+namespace mixload::post {
+
+struct LoadingSample {
+    double t, loading, inflow, outflow, fed, out;
+};
+
+// The loading monitor's per-step history, merged across restarts.
+std::vector<LoadingSample> readLoadingHistory(const std::filesystem::path& caseDir);
+
+// The monitor's steady verdict (postProcessing/loading/steady), if the run reached one.
+std::optional<nlohmann::json> readSteadyVerdict(const std::filesystem::path& caseDir);
+
+// Mesh facts from checkMesh's log: cells, max non-orthogonality, max skewness, "ok".
+nlohmann::json readCheckMesh(const std::filesystem::path& caseDir);
+
+// The result record of a mixer run (without timings).
+nlohmann::json mixerResult(const scene::MixerScene& s, const std::filesystem::path& caseDir);
+
+// Writes loading.png (M(t), and the outflow beside the feed) into caseDir; returns a warning or "".
+std::string plotLoading(const scene::MixerScene& s, const std::filesystem::path& caseDir);
+
+}  // namespace mixload::post

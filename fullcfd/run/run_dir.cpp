@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "run/run_dir.hpp"
+
+#include "common/atomic_file.hpp"
+#include "common/input_error.hpp"
+#include "mixload_version.hpp"
+
+namespace mixload::run {
+
+namespace fs = std::filesystem;
+
+std::optional<nlohmann::json> checkRunDir(const fs::path& dir, const std::string& hash, bool reuse) {
+    if (!fs::exists(dir)) return std::nullopt;
+    const fs::path sceneFile = dir / "scene.json";
+    if (!fs::exists(sceneFile) || nlohmann::json::parse(readFile(sceneFile)).value("hash", "") != hash)
+        throw InputError("out", dir.string(), "a new directory or a run directory of the same scene");
+    if (reuse && fs::exists(dir / "result.json")) {
+        auto r = nlohmann::json::parse(readFile(dir / "result.json"));
+        r["reused"] = true;
+        return r;
+    }
+    return std::nullopt;
+}
+
+void buildCaseAtomically(const fs::path& dir, const std::function<void(const fs::path&)>& build) {
+    fs::path tmp = dir;
+    tmp += ".tmp";
+    fs::remove_all(tmp);
+    fs::create_directories(tmp);
+    try {
+        build(tmp);
+    } catch (...) {
+        fs::remove_all(tmp);
+        throw;
+    }
+    fs::remove_all(dir);
+    fs::rename(tmp, dir);
+}
+
+void stampProvenance(nlohmann::json& result, const fs::path& dir, const std::string& hash) {
+    result["run_dir"] = dir.string();
+    result["scene_hash"] = hash;
+    result["mixload_version"] = kVersion;
+    result["git_commit"] = kGitCommit;
+    result["openfoam_version"] = MIXLOAD_OPENFOAM_VERSION;
+}
+
+}  // namespace mixload::run

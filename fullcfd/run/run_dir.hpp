@@ -1,0 +1,28 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// What every full run does with its directory: refuse one that belongs to another scene, reuse a
+// finished result, build a new case atomically, stamp results with provenance.
+#pragma once
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace mixload::run {
+
+// Throws InputError if dir exists but holds another scene; returns the stored result (marked
+// "reused") when reuse is allowed and the run finished.
+std::optional<nlohmann::json> checkRunDir(const std::filesystem::path& dir, const std::string& hash,
+                                          bool reuse);
+
+// Builds the case in a sibling "<dir>.tmp" with build(tmp) and renames it to dir: a directory
+// under the final name always holds a complete case, and a failed build leaves nothing.
+void buildCaseAtomically(const std::filesystem::path& dir,
+                         const std::function<void(const std::filesystem::path&)>& build);
+
+// Adds run_dir, scene_hash, mixload_version, git_commit and openfoam_version.
+void stampProvenance(nlohmann::json& result, const std::filesystem::path& dir,
+                     const std::string& hash);
+
+}  // namespace mixload::run

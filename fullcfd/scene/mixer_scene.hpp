@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "scene/material.hpp"
+
+namespace mixload::scene {
+
+// Geometry of a Gericke-type continuous horizontal mixer (all lengths in metres). The shaft lies on
+// the x axis; the feed end face is x = 0 and the discharge is x = length; gravity is -z.
+struct MixerGeometry {
+    double length = 0.30, bore = 0.10;
+    double shaftDiameter = 0.02;
+    int paddleCount = 12;
+    double tipClearance = 0.003, paddleWidth = 0.015, paddleThickness = 0.004;
+    double pitchDeg = 45, offsetDeg = 90;
+    double endGap = 0.004, endClearance = 0.003;
+    double weirChordDeg = 20;
+    int weirCovers = +1;  // +1: the weir closes the +y half of the discharge, -1: the -y half
+    double inletDiameter = 0.02, inletHeight = 0.025;
+
+    void validate() const;  // throws InputError naming the key, also for impossible combinations
+
+    double radius() const { return 0.5 * bore; }
+    double shaftRadius() const { return 0.5 * shaftDiameter; }
+    double tipRadius() const { return radius() - tipClearance; }
+    // The rotating zone: a cylinder halfway between the paddle tips and the bore, from endGap to
+    // length - endGap. It holds the whole impeller (shaft section + paddles).
+    double rotorRadius() const { return radius() - 0.5 * tipClearance; }
+    double rotorX0() const { return endGap; }
+    double rotorX1() const { return length - endGap; }
+    // Paddle centres are equally spaced over the impeller span inside the zone.
+    double impellerX0() const { return endGap + endClearance; }
+    double impellerX1() const { return length - endGap - endClearance; }
+    double paddleSpacing() const { return (impellerX1() - impellerX0()) / paddleCount; }
+    double paddleX(int i) const { return impellerX0() + (i + 0.5) * paddleSpacing(); }
+    double paddleAngleDeg(int i) const { return i * offsetDeg; }
+    // Half the axial extent of one pitched paddle.
+    double paddleAxialHalf() const;
+    // Volume inside the barrel that the powder can occupy (bore minus shaft and paddles).
+    double openVolume() const;
+};
+
+// A mixer run's inputs: geometry, powder, operating point, method and mesh.
+struct MixerScene {
+    std::string name = "gcm250";
+    MixerGeometry geometry;
+    Material material;             // grain-side values; bulk density = phi * rhoS
+    std::string convention = "paper";
+    std::string rheology = "muI";  // muI | muIRegularised | schaeffer
+    std::optional<double> etaMax;  // [Pa s]; default Rauter's with H = bore
+    double pMin = 1.0;             // [Pa]
+    double rpm = 39, feedKgH = 5, initialLoadingKg = 0.3;
+    std::string method = "mrf";    // mrf | lts | sm
+    std::string mesh = "coarse";   // coarse | medium | fine | custom
+    double cellSize = 0.005;       // background cell [m]; the impeller and zone are refined once
+    std::array<double, 3> levelCells{0.005, 0.0035, 0.0025};  // coarse, medium, fine from the file
+    double endTime = 120;          // cap [s] (lts: pseudo-time iterations are capped separately)
+    int ltsIterations = 20000;     // lts cap
+    double steadyWindowRevs = 3;   // steady test: window of this many revolutions ...
+    double steadyTol = 0.02;       // ... consecutive window means within this fraction ...
+    double steadyFlowTol = 0.10;   // ... and mean outflow within this fraction of the feed
+    double minTime = 0;            // no steady verdict before this time [s]
+    double gravity = 9.81;
+
+    void validate() const;
+    void setMesh(const std::string& level);  // coarse | medium | fine
+    double bulkDensity() const { return material.bulkDensity(); }
+    double omega() const;          // [rad/s]
+    double revolutionTime() const { return 60.0 / rpm; }
+    double feedKgS() const { return feedKgH / 3600.0; }
+    double feedM3S() const { return feedKgS() / bulkDensity(); }
+    double etaMaxValue() const;
+    double muSCase() const;
+    double muDCase() const;
+    double steadyWindow() const;   // [s], or iterations for lts
+
+    nlohmann::json toJson() const;  // canonical: every input that changes the result
+    std::string hash() const;
+};
+
+// Parses a mixer scene TOML (see data/scenes/gcm250.toml); origin names the file in errors.
+MixerScene parseMixerScene(const std::string& text, const std::string& origin);
+// A shipped scene by name (data/scenes/<name>.toml) or a path to a .toml file.
+MixerScene loadMixerScene(const std::string& nameOrPath);
+
+// Height (z, relative to the axis) of a flat powder surface that holds the given volume in an
+// empty bore of radius R and length L (circular segment).
+double depositHeight(double volume, double R, double L);
+
+}  // namespace mixload::scene
