@@ -148,7 +148,7 @@ std::string controlDict(const scene::MixerScene& s) {
     } else {
         os << "endTime " << num(s.endTime) << ";  // cap only: the monitor ends the run when steady\n"
            << "deltaT 1e-4;\nwriteControl adjustable;\nwriteInterval "
-           << num(std::max(0.5, s.revolutionTime())) << ";\n"
+           << num(std::min(5.0, std::max(0.5, s.revolutionTime()))) << ";\n"
            << "adjustTimeStep yes;\nmaxCo 0.5;\nmaxAlphaCo 0.5;\nmaxDeltaT "
            << num(std::min(0.01, s.revolutionTime() / 72.0)) << ";\n";
     }
@@ -202,7 +202,7 @@ std::string fvSolution(const scene::MixerScene& s) {
     if (s.method == "lts") {
         os << "    maxCo 2;\n    maxAlphaCo 1;\n    rDeltaTSmoothingCoeff 0.05;\n"
            << "    rDeltaTDampingCoeff 0.5;\n    nAlphaSpreadIter 0;\n    nAlphaSweepIter 0;\n"
-           << "    maxDeltaT " << num(s.revolutionTime() / 36.0) << ";\n";
+           << "    maxDeltaT " << num(std::min(0.05, s.revolutionTime() / 36.0)) << ";\n";
     }
     os << "}\n\nrelaxationFactors { equations { \".*\" 1; } }\n";
     return os.str();

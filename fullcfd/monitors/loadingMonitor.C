@@ -42,7 +42,8 @@ Foam::functionObjects::loadingMonitor::loadingMonitor
         mkDir(dir);
         history_.reset(new OFstream(dir/"loading.dat"));
         history_()
-            << "# time loading_kg inflow_kg_s outflow_kg_s fed_kg out_kg" << nl;
+            << "# time loading_kg inflow_kg_s outflow_kg_s fed_kg out_kg"
+            << " max_powder_speed_m_s" << nl;
         history_().precision(12);
     }
 }
@@ -116,6 +117,12 @@ bool Foam::functionObjects::loadingMonitor::execute()
 {
     const volScalarField& alpha = lookupObject<volScalarField>(alphaName_);
     const scalar M = rho_*gSum(alpha.primitiveField()*mesh_.V());
+    // Fastest powder cell (alpha > 0.5), absolute frame as interFoam stores U even under MRF.
+    const volVectorField& U = lookupObject<volVectorField>("U");
+    const scalar maxSpeed = gMax
+    (
+        pos(alpha.primitiveField() - 0.5)*mag(U.primitiveField())
+    );
     const scalar qIn = -patchFlow(inlets_);
     const scalar qOut = patchFlow(outlets_);
     const scalar dt = pseudoTime_ ? 1.0 : time_.deltaTValue();
@@ -127,7 +134,7 @@ bool Foam::functionObjects::loadingMonitor::execute()
     {
         history_()
             << t << ' ' << M << ' ' << qIn << ' ' << qOut << ' '
-            << fed_ << ' ' << out_ << endl;
+            << fed_ << ' ' << out_ << ' ' << maxSpeed << endl;
     }
 
     if (ts_.empty() || t - ts_.last() >= window_/50)

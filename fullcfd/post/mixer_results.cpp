@@ -27,7 +27,7 @@ fs::path monitorDir(const fs::path& caseDir) {
 std::vector<LoadingSample> readLoadingHistory(const fs::path& caseDir) {
     auto out = readSegments<LoadingSample>(
         monitorDir(caseDir), "loading.dat", [](std::istream& is, LoadingSample& s) {
-            return static_cast<bool>(is >> s.t >> s.loading >> s.inflow >> s.outflow >> s.fed >> s.out);
+            return static_cast<bool>(is >> s.t >> s.loading >> s.inflow >> s.outflow >> s.fed >> s.out >> s.maxPowderSpeed);
         });
     if (out.empty()) throw run::RunError("no loading history in " + monitorDir(caseDir).string());
     return out;
@@ -106,11 +106,17 @@ nlohmann::json mixerResult(const scene::MixerScene& s, const fs::path& caseDir) 
                      {"feed_kg_h", s.feedKgH},
                      {"rpm", s.rpm},
                      {"initial_loading_kg", first.loading},
+                     {"final_loading_kg", last.loading},
                      {"end_time_s", end},
                      {"window", W},
                      {"time_unit", lts ? "iteration" : "s"},
                      {"powder_balance_error", (gained - (fedSinceStart - outSinceStart)) / scale},
                      {"fed_kg", fedSinceStart},
+                     {"max_powder_speed_m_s", [&] {
+                          double v = 0;
+                          for (const auto& h : hist) v = std::max(v, h.maxPowderSpeed);
+                          return v;
+                      }()},
                      {"out_kg", outSinceStart},
                      {"history", history}};
     if (!lts) r["revolutions"] = end / s.revolutionTime();

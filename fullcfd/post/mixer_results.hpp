@@ -12,7 +12,7 @@
 namespace mixload::post {
 
 struct LoadingSample {
-    double t, loading, inflow, outflow, fed, out;
+    double t, loading, inflow, outflow, fed, out, maxPowderSpeed;
 };
 
 // The loading monitor's per-step history, merged across restarts.

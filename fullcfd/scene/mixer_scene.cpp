@@ -86,7 +86,7 @@ void MixerScene::validate() const {
         throw InputError("method", method, "mrf|lts|sm");
     if (etaMax) requirePositive("eta-max", *etaMax);
     requirePositive("p-min", pMin);
-    requireRange("rpm", rpm, 1.0, 2000.0);
+    requireRange("rpm", rpm, 0.0, 2000.0);  // 0: a resting bed (checks)
     requireRange("feed-kg-h", feedKgH, 0.0, 1000.0);
     const double capacity = geometry.openVolume() * bulkDensity();
     requireRange("initial-loading-kg", initialLoadingKg, 0.0, 0.95 * capacity);
@@ -118,9 +118,10 @@ double MixerScene::muDCase() const {
 }
 
 double MixerScene::steadyWindow() const {
-    // LTS has no physical time: its window is counted in pseudo-time iterations.
-    return method == "lts" ? std::max(200.0, 100.0 * steadyWindowRevs)
-                           : steadyWindowRevs * revolutionTime();
+    // LTS has no physical time: its window is counted in pseudo-time iterations. Without rotation
+    // a "revolution" is taken as 1 s.
+    if (method == "lts") return std::max(200.0, 100.0 * steadyWindowRevs);
+    return steadyWindowRevs * (rpm > 0 ? revolutionTime() : 1.0);
 }
 
 nlohmann::json MixerScene::toJson() const {

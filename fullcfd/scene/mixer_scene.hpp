@@ -72,7 +72,7 @@ struct MixerScene {
     void setMesh(const std::string& level);  // coarse | medium | fine
     double bulkDensity() const { return material.bulkDensity(); }
     double omega() const;          // [rad/s]
-    double revolutionTime() const { return 60.0 / rpm; }
+    double revolutionTime() const { return rpm > 0 ? 60.0 / rpm : 1e30; }
     double feedKgS() const { return feedKgH / 3600.0; }
     double feedM3S() const { return feedKgS() / bulkDensity(); }
     double etaMaxValue() const;

@@ -1,0 +1,109 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The mixer scene: shipped file, validation of impossible geometry, generated surfaces, initial bed.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "cases/mixer_geometry.hpp"
+#include "common/input_error.hpp"
+#include "scene/mixer_scene.hpp"
+
+using namespace mixload;
+using mixload::scene::MixerScene;
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+
+MixerScene parse(const std::string& extra) {
+    return scene::parseMixerScene(extra, "test.toml");
+}
+
+void expectInvalid(const std::string& toml, const std::string& needle) {
+    try {
+        parse(toml);
+        FAIL() << "accepted: " << toml;
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+}
+}  // namespace
+
+TEST(MixerScene, ShippedSceneLoadsWithItsStatedValues) {
+    const auto s = scene::loadMixerScene("gcm250");
+    EXPECT_EQ(s.geometry.paddleCount, 12);
+    EXPECT_DOUBLE_EQ(s.geometry.weirChordDeg, 20.0);
+    EXPECT_DOUBLE_EQ(s.rpm, 39.0);
+    EXPECT_DOUBLE_EQ(s.feedKgH, 5.0);
+    EXPECT_NEAR(s.bulkDensity(), 0.62 * 532.0, 1e-9);
+    EXPECT_EQ(s.convention, "paper");
+    EXPECT_EQ(s.hash(), scene::loadMixerScene("gcm250").hash());
+}
+
+TEST(MixerScene, HashFollowsEveryInput) {
+    auto a = parse(""), b = parse("");
+    b.rpm = 162;
+    EXPECT_NE(a.hash(), b.hash());
+    b = a;
+    b.method = "lts";
+    EXPECT_NE(a.hash(), b.hash());
+}
+
+TEST(MixerScene, RejectsImpossibleGeometry) {
+    expectInvalid("[impeller]\npaddle_tip_clearance_m = -0.001\n", "impeller.paddle_tip_clearance_m");
+    expectInvalid("[barrel]\nbore_m = 0.05\n[impeller]\nshaft_diameter_m = 0.045\n",
+                  "impeller.shaft_diameter_m");
+    expectInvalid("[weir]\nchord_angle_deg = 95\n", "invalid weir.chord_angle_deg = 95: allowed (-90, 90)");
+    expectInvalid("[weir]\ncovers = \"up\"\n", "weir.covers");
+    expectInvalid("[operation]\nfeed_kg_h = -5\n", "invalid feed-kg-h = -5");
+    expectInvalid("[impeller]\npaddle_count = 40\n", "impeller.paddle_count");
+    expectInvalid("[impeller]\npaddle_count = 2.5\n", "a whole number");
+    expectInvalid("[inlet]\nheight_m = 0.001\n", "inlet.height_m");
+    expectInvalid("[barrel]\nlenght_m = 0.3\n", "unknown key barrel.lenght_m");
+    expectInvalid("[rotor]\nx = 1\n", "unknown table [rotor]");
+    expectInvalid("[operation]\ninitial_loading_kg = 5\n", "initial-loading-kg");
+    expectInvalid("[barrel\n", "malformed TOML");
+}
+
+TEST(MixerScene, PaddlesStayInsideTheRotatingZone) {
+    const auto g = parse("").geometry;
+    const double half = g.paddleAxialHalf();
+    EXPECT_GE(g.paddleX(0) - half, g.rotorX0());
+    EXPECT_LE(g.paddleX(g.paddleCount - 1) + half, g.rotorX1());
+    EXPECT_GT(g.rotorRadius(), g.tipRadius());
+    EXPECT_LT(g.rotorRadius(), g.radius());
+}
+
+TEST(MixerScene, DepositHeightHoldsTheVolume) {
+    const double R = 0.05, L = 0.3;
+    EXPECT_NEAR(scene::depositHeight(0.5 * kPi * R * R * L, R, L), 0.0, 1e-9);  // half full
+    EXPECT_NEAR(scene::depositHeight(kPi * R * R * L, R, L), R, 1e-9);
+    // A thin segment: area ~ (4/3) sqrt(2R) h^(3/2).
+    const double h = 1e-3;
+    const double area = R * R * std::acos(1 - h / R) - (R - h) * std::sqrt(2 * R * h - h * h);
+    EXPECT_NEAR(scene::depositHeight(area * L, R, L), -R + h, 1e-9);
+}
+
+TEST(MixerGeometry, DischargeIsSplitInHalvesAndPortsHaveTheirArea) {
+    const auto g = parse("").geometry;
+    const auto barrel = cases::barrelSurface(g);
+    const double disc = kPi * g.radius() * g.radius();
+    // Polygonal discs: within the 96-sector chord error.
+    EXPECT_NEAR(barrel.area("outlet"), 0.5 * disc, 0.002 * disc);
+    EXPECT_NEAR(barrel.area("weir"), 0.5 * disc, 0.002 * disc);
+    const double port = 0.25 * kPi * g.inletDiameter * g.inletDiameter;
+    EXPECT_NEAR(barrel.area("inlet"), port, 0.08 * port);  // triangles assigned by centroid
+    EXPECT_NEAR(barrel.area("wall"), 2 * kPi * g.radius() * g.length + disc - port,
+                0.01 * (2 * kPi * g.radius() * g.length));
+    // The weir closes the bottom of the discharge (chord 20 degrees from vertical, +y side).
+    EXPECT_TRUE(cases::onWeir(g, 0.0, -g.radius()));
+    EXPECT_FALSE(cases::onWeir(g, -0.5 * g.radius(), 0.0));
+}
+
+TEST(MixerGeometry, PaddleBoxesHaveTheirArea) {
+    const auto g = parse("").geometry;
+    const auto p = cases::paddleSurface(g);
+    const double l = g.tipRadius() - 0.5 * g.shaftRadius();
+    const double one = 2 * (l * g.paddleWidth + l * g.paddleThickness + g.paddleWidth * g.paddleThickness);
+    EXPECT_NEAR(p.area("paddles"), g.paddleCount * one, 1e-9);
+}

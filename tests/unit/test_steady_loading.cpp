@@ -1,0 +1,101 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The steady-loading test of the mixer monitor on synthetic histories.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "steadyLoading.H"
+
+using mixload::steady::test;
+
+namespace {
+struct History {
+    std::vector<double> t, M, C;
+};
+
+// M(t) given; the cumulative outflow follows from a constant feed and the mass balance.
+template <class F>
+History make(double end, double dt, double feed, F loading) {
+    History h;
+    double out = 0;
+    for (double t = 0; t <= end + 1e-12; t += dt) {
+        if (!h.t.empty()) out += feed * dt - (loading(t) - h.M.back());
+        h.t.push_back(t);
+        h.M.push_back(loading(t));
+        h.C.push_back(out);
+    }
+    return h;
+}
+
+constexpr double kFeed = 5.0 / 3600;  // kg/s
+constexpr double kRev = 60.0 / 39;    // s
+constexpr double kW = 3 * kRev;
+}  // namespace
+
+TEST(SteadyLoading, ConstantLoadingIsSteady) {
+    const auto h = make(20, 0.01, kFeed, [](double) { return 0.3; });
+    const auto v = test(h.t, h.M, h.C, kW, kFeed, 0.02, 0.1, 0);
+    EXPECT_TRUE(v.steady);
+    EXPECT_NEAR(v.meanLoading, 0.3, 1e-12);
+    EXPECT_NEAR(v.meanOutflow, kFeed, 1e-9);
+}
+
+TEST(SteadyLoading, PeriodicLoadingAveragedOverWholeRevolutionsIsSteady) {
+    // Paddle passing: 12 paddles -> 12 bumps per revolution, plus a once-per-revolution swing.
+    const auto h = make(20, 0.002, kFeed, [](double t) {
+        return 0.3 + 0.01 * std::sin(2 * std::numbers::pi * t / kRev) + 0.004 * std::sin(24 * std::numbers::pi * t / kRev);
+    });
+    const auto v = test(h.t, h.M, h.C, kW, kFeed, 0.02, 0.1, 0);
+    EXPECT_TRUE(v.steady) << "drift " << v.drift << " flow error " << v.flowError;
+    EXPECT_NEAR(v.meanLoading, 0.3, 1e-4);
+}
+
+TEST(SteadyLoading, SlowlyFillingMixerIsNotSteady) {
+    // Filling at half the feed: the loading changes by well under 2% per window, but the outflow
+    // is only half the feed, which the flow condition catches.
+    const auto h = make(30, 0.01, kFeed, [](double t) { return 0.2 + 0.5 * kFeed * t; });
+    const auto v = test(h.t, h.M, h.C, kW, kFeed, 0.02, 0.1, 0);
+    EXPECT_LT(v.drift, 0.02);
+    EXPECT_FALSE(v.steady);
+    EXPECT_NEAR(v.flowError, 0.5, 1e-6);
+}
+
+TEST(SteadyLoading, DrainingMixerIsNotSteady) {
+    const auto h = make(20, 0.01, kFeed, [](double t) { return 0.4 * std::exp(-t / 10); });
+    EXPECT_FALSE(test(h.t, h.M, h.C, kW, kFeed, 0.02, 0.1, 0).steady);
+}
+
+TEST(SteadyLoading, NoisyLoadingIsJudgedByItsWindowMeans) {
+    // Paddle-scale noise on M with a steady discharge: steady. The same noise on a mixer that
+    // fills at half the feed: not steady.
+    std::mt19937 rng(42);
+    std::normal_distribution<double> noise(0, 0.005);
+    History quiet, filling;
+    for (double t = 0; t <= 20; t += 0.01) {
+        quiet.t.push_back(t);
+        quiet.M.push_back(0.3 + noise(rng));
+        quiet.C.push_back(kFeed * t);
+        filling.t.push_back(t);
+        filling.M.push_back(0.2 + 0.5 * kFeed * t + noise(rng));
+        filling.C.push_back(0.5 * kFeed * t);
+    }
+    const auto q = test(quiet.t, quiet.M, quiet.C, kW, kFeed, 0.02, 0.1, 0);
+    EXPECT_TRUE(q.steady) << "drift " << q.drift;
+    EXPECT_NEAR(q.meanLoading, 0.3, 0.002);
+    EXPECT_FALSE(test(filling.t, filling.M, filling.C, kW, kFeed, 0.02, 0.1, 0).steady);
+}
+
+TEST(SteadyLoading, NeedsTwoWindowsAfterMinTime) {
+    const auto h = make(5, 0.01, kFeed, [](double) { return 0.3; });
+    EXPECT_FALSE(test(h.t, h.M, h.C, 3.0, kFeed, 0.02, 0.1, 0).enoughHistory);  // 6 s > 5 s
+    EXPECT_TRUE(test(h.t, h.M, h.C, 2.0, kFeed, 0.02, 0.1, 0).steady);
+    EXPECT_FALSE(test(h.t, h.M, h.C, 2.0, kFeed, 0.02, 0.1, 2.0).steady);  // window starts at 1
+}
+
+TEST(SteadyLoading, NoFeedRestingBedIsSteady) {
+    const auto h = make(10, 0.01, 0.0, [](double) { return 0.3; });
+    EXPECT_TRUE(test(h.t, h.M, h.C, 2.0, 0.0, 0.02, 0.1, 0).steady);
+}
