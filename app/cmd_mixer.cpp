@@ -48,7 +48,9 @@ void addMixer(CLI::App& app, Action& action) {
                       << r["loading_std_kg"].get<double>() << " kg over the final window)"
                       << "\n  steady: " << (r["steady"].get<bool>() ? "yes" : "NO (cap reached)")
                       << "\n  outflow " << r["outflow_kg_h"].get<double>() << " kg/h"
-                      << "\n  powder balance error " << r["powder_balance_error"].get<double>()
+                      << "\n  powder balance error "
+                      << (r["powder_balance_error"].is_null() ? std::string("n/a (pseudo-time)")
+                                                               : r["powder_balance_error"].dump())
                       << "\n  wall " << r["wall_seconds"].get<double>() << " s, core "
                       << r["core_seconds"].get<double>() << " s"
                       << "\n  run dir " << r["run_dir"].get<std::string>() << "\n  plot "

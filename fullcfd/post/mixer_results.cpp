@@ -110,7 +110,9 @@ nlohmann::json mixerResult(const scene::MixerScene& s, const fs::path& caseDir) 
                      {"end_time_s", end},
                      {"window", W},
                      {"time_unit", lts ? "iteration" : "s"},
-                     {"powder_balance_error", (gained - (fedSinceStart - outSinceStart)) / scale},
+                     // Pseudo-time moves each cell by its own step: flow sums are not masses there.
+                     {"powder_balance_error",
+                      lts ? nlohmann::json() : nlohmann::json((gained - (fedSinceStart - outSinceStart)) / scale)},
                      {"fed_kg", fedSinceStart},
                      {"max_powder_speed_m_s", [&] {
                           double v = 0;
