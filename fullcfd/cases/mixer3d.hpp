@@ -12,15 +12,17 @@ namespace mixload::cases {
 
 inline constexpr const char* kLoadingMonitor = "loading";
 
-// Writes surfaces and every dictionary the meshing needs (blockMesh, snappyHexMesh, createBaffles).
+// Writes surfaces, the meshing dictionaries (blockMesh, snappyHexMesh, topoSet, createBaffles) and
+// the system dictionaries the utilities and the solver share (controlDict, fvSchemes, fvSolution,
+// decomposeParDict).
 void writeMixerMeshCase(const scene::MixerScene& s, const std::filesystem::path& caseDir, int np);
 
 // The utilities that turn the written case into the final mesh, in order.
 std::vector<std::vector<std::string>> mixerMeshSteps(const scene::MixerScene& s);
 
-// Writes the solver dictionaries and the 0/ fields (after meshing, so fields see the final
-// patches), and setFieldsDict for the initial deposit.
-void writeMixerSolverCase(const scene::MixerScene& s, const std::filesystem::path& caseDir, int np);
+// Writes constant/ (transport, gravity, MRF or mesh motion), the 0/ fields (after meshing, so
+// fields see the final patches) and setFieldsDict for the initial deposit.
+void writeMixerSolverCase(const scene::MixerScene& s, const std::filesystem::path& caseDir);
 
 // Height of the initial deposit surface (z) for the scene's initial loading.
 double initialBedHeight(const scene::MixerScene& s);

@@ -3,7 +3,6 @@
 
 #include <cmath>
 #include <fstream>
-#include <map>
 #include <regex>
 #include <sstream>
 

@@ -51,7 +51,7 @@ nlohmann::json runMixer(const MixerJob& job) {
             if (mesh.value("failed_checks", 0) > 0 && !mesh.value("ok", false))
                 throw RunError("checkMesh failed " + std::to_string(mesh.value("failed_checks", 0)) +
                                " checks; see " + (tmp / "log.checkMesh").string());
-            cases::writeMixerSolverCase(s, tmp, job.np);
+            cases::writeMixerSolverCase(s, tmp);
             runUtility(tmp, {"setFields"});
         });
         meshSeconds = since(t0);

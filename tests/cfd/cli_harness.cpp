@@ -3,6 +3,10 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+
+#include <gtest/gtest.h>
+
 #include "common/atomic_file.hpp"
 #include "common/process.hpp"
 
@@ -30,6 +34,20 @@ CliResult runMixload(const std::vector<std::string>& args) {
     r.rc = runProcess(spec);
     r.err = readFile(err);
     return r;
+}
+
+void expectRejected(const std::string& subcommand, std::vector<std::string> args,
+                    const std::string& needle) {
+    const fs::path out = scratchDir("bad-input-" + subcommand) / "run";
+    args.insert(args.begin(), subcommand);
+    args.push_back("--out");
+    args.push_back(out.string());
+    const auto r = runMixload(args);
+    EXPECT_EQ(r.rc, 2) << r.err;
+    EXPECT_NE(r.err.find(needle), std::string::npos) << "stderr: " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << "a run directory was left behind";
+    EXPECT_FALSE(fs::exists(out.string() + ".tmp"));
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }
 
 }  // namespace mixload::testing

@@ -11,16 +11,7 @@ namespace fs = std::filesystem;
 
 namespace {
 void expectRejected(std::vector<std::string> args, const std::string& needle) {
-    const fs::path out = scratchDir("bad-input") / "run";
-    args.insert(args.begin(), "collapse");
-    args.push_back("--out");
-    args.push_back(out.string());
-    const auto r = runMixload(args);
-    EXPECT_EQ(r.rc, 2) << r.err;
-    EXPECT_NE(r.err.find(needle), std::string::npos) << "stderr: " << r.err;
-    EXPECT_FALSE(fs::exists(out)) << "a run directory was left behind";
-    EXPECT_FALSE(fs::exists(out.string() + ".tmp"));
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    mixload::testing::expectRejected("collapse", std::move(args), needle);
 }
 }  // namespace
 

@@ -26,15 +26,7 @@ nlohmann::json runMixer(const std::string& name, std::vector<std::string> args) 
 }
 
 void expectRejected(std::vector<std::string> args, const std::string& needle) {
-    const fs::path out = scratchDir("mixer-bad-input") / "run";
-    args.insert(args.begin(), "mixer");
-    args.push_back("--out");
-    args.push_back(out.string());
-    const auto r = runMixload(args);
-    EXPECT_EQ(r.rc, 2) << r.err;
-    EXPECT_NE(r.err.find(needle), std::string::npos) << "stderr: " << r.err;
-    EXPECT_FALSE(fs::exists(out)) << "a run directory was left behind";
-    EXPECT_FALSE(fs::exists(out.string() + ".tmp"));
+    mixload::testing::expectRejected("mixer", std::move(args), needle);
 }
 
 fs::path writeScene(const std::string& name, const std::string& text) {
