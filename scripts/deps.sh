@@ -36,8 +36,10 @@ if [ ${#need_install[@]} -gt 0 ]; then
 fi
 
 of_version=$(dpkg-query -W -f='${Version}' openfoam)
+# The layout number changes whenever this script adds to the tree, so old trees are rebuilt.
+tree_id="$of_version layout 2"
 stamp="$HEADERS/.version"
-if [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$of_version" ]; then
+if [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$tree_id" ]; then
   exit 0
 fi
 
@@ -54,15 +56,18 @@ trap 'rm -rf "$work"' EXIT
 ( cd "$work" && apt-get source --download-only -qq "openfoam=$of_version" >/dev/null )
 orig=$(ls "$work"/openfoam_*.orig.tar.* | head -n 1)
 mkdir -p "$work/src"
-tar -xf "$orig" -C "$work/src" --strip-components=1 --wildcards '*/src/*' '*/applications/solvers/multiphase/interFoam/*' '*/etc/*' 2>/dev/null || tar -xf "$orig" -C "$work/src" --strip-components=1
+tar -xf "$orig" -C "$work/src" --strip-components=1 --wildcards '*/src/*' \
+  '*/applications/solvers/multiphase/interFoam/*' '*/applications/solvers/multiphase/VoF/*' \
+  '*/etc/*' 2>/dev/null || tar -xf "$orig" -C "$work/src" --strip-components=1
 
 tmp_headers="$HEADERS.tmp.$$"
 rm -rf "$tmp_headers"
 mkdir -p "$tmp_headers"
 # One flat folder per OpenFOAM library: every header (and template .C that headers include) found
 # below that library's source folder, as wmake's lnInclude does.
-for lib in OpenFOAM OSspecific/POSIX finiteVolume meshTools \
+for lib in OpenFOAM OSspecific/POSIX finiteVolume meshTools sampling dynamicFvMesh dynamicMesh \
            transportModels/incompressible transportModels/twoPhaseMixture transportModels/interfaceProperties \
+           transportModels/immiscibleIncompressibleTwoPhaseMixture \
            TurbulenceModels/turbulenceModels TurbulenceModels/incompressible fileFormats surfMesh; do
   [ -d "$work/src/src/$lib" ] || continue
   dest="$tmp_headers/$lib"
@@ -70,7 +75,15 @@ for lib in OpenFOAM OSspecific/POSIX finiteVolume meshTools \
   find "$work/src/src/$lib" -type f \( -name '*.H' -o -name '*.C' -o -name '*.hxx' \) -print0 |
     while IFS= read -r -d '' f; do cp -n "$f" "$dest/" ; done
 done
-echo "$of_version" > "$tmp_headers/.version"
+# interFoam itself, unmodified, for mixload to compile against the installed libraries: Debian's
+# own /usr/bin/interFoam diverges on every mesh whose faces are not aligned with the axes (README,
+# "Why mixload builds its own interFoam"). transportModels/ is kept as a tree too, because the
+# solver includes some of its headers by relative path.
+mkdir -p "$tmp_headers/solvers" "$tmp_headers/tree"
+cp -r "$work/src/applications/solvers/multiphase/interFoam" "$tmp_headers/solvers/interFoam"
+cp -r "$work/src/applications/solvers/multiphase/VoF" "$tmp_headers/solvers/VoF"
+cp -r "$work/src/src/transportModels" "$tmp_headers/tree/transportModels"
+echo "$tree_id" > "$tmp_headers/.version"
 $SUDO mkdir -p "$(dirname "$HEADERS")"
 rm -rf "$HEADERS"
 mv "$tmp_headers" "$HEADERS"

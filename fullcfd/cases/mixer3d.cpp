@@ -7,6 +7,7 @@
 #include "cases/foam_dict.hpp"
 #include "cases/foam_numerics.hpp"
 #include "cases/mixer_geometry.hpp"
+#include "cases/mixer_sm_mesh.hpp"
 
 namespace mixload::cases {
 
@@ -45,24 +46,19 @@ std::string snappyHexMeshDict(const scene::MixerScene& s) {
     const double xIn = 0.5 * (g.paddleX(0) + g.paddleX(1));
     const double zIn = -0.5 * (g.shaftRadius() + g.rotorRadius()) - 0.1234 * s.cellSize;
     const double yIn = 0.0917 * s.cellSize;
-    // Only the sliding mesh needs a conforming zone boundary (its AMI). For MRF a snapped zone
-    // surface a few millimetres from the end faces squeezes cells to slivers, and the frozen-rotor
-    // source does not need it: topoSet picks the zone's cells instead (mixerMeshSteps).
-    const bool sm = s.method == "sm";
     std::ostringstream os;
-    // Walls stay castellated (stair-stepped hexahedra) for mrf and lts. Snapped cells against
-    // the shaft and bore made interFoam blow up in its first steps on a resting bed (velocities
-    // of 1e8 m/s in air cells between a snapped wall and the powder surface, with any scheme,
-    // solver or rheology), while the castellated mesh of the same scene stays at rest: see the
-    // README's mixer section. The sliding mesh needs a smooth rotor interface, so it snaps.
-    os << "castellatedMesh true;\nsnap " << (sm ? "true" : "false") << ";\naddLayers false;\n\n"
+    // Walls stay castellated (stair-stepped hexahedra). Snapped cells against the shaft and bore
+    // made interFoam blow up in its first steps on a resting bed (velocities of 1e8 m/s in air
+    // cells between a snapped wall and the powder surface, with any scheme, solver or rheology),
+    // while the castellated mesh of the same scene stays at rest: see the README's mixer section.
+    // The frozen-rotor zone needs no conforming boundary: topoSet picks its cells (topoSetDict).
+    os << "castellatedMesh true;\nsnap false;\naddLayers false;\n\n"
        << "geometry\n{\n"
        << "    barrel.stl { type triSurfaceMesh; name barrel;\n"
        << "        regions { wall { name wall; } inlet { name inlet; } outlet { name outlet; } "
           "weir { name weir; } } }\n"
        << "    shaft.stl { type triSurfaceMesh; name shaft; }\n"
-       << "    paddles.stl { type triSurfaceMesh; name paddles; }\n"
-       << (sm ? "    rotor.stl { type triSurfaceMesh; name rotor; }\n" : "") << "}\n\n"
+       << "    paddles.stl { type triSurfaceMesh; name paddles; }\n}\n\n"
        << "castellatedMeshControls\n{\n"
        << "    maxLocalCells 2000000;\n    maxGlobalCells 20000000;\n    minRefinementCells 0;\n"
        << "    maxLoadUnbalance 0.10;\n    nCellsBetweenLevels 2;\n    features ();\n"
@@ -75,13 +71,8 @@ std::string snappyHexMeshDict(const scene::MixerScene& s) {
        << "                weir { level (0 0); patchInfo { type wall; } }\n"
        << "            }\n        }\n"
        << "        shaft { level (0 0); patchInfo { type wall; } }\n"
-       // One level finer on the paddles (about one background cell thick) and, for the sliding
-       // mesh, on the zone boundary, which needs cells on both sides of the tip clearance.
+       // One level finer on the paddles: about one background cell thick.
        << "        paddles { level (1 1); patchInfo { type wall; } }\n"
-       << (sm ? "        rotor\n        {\n            level (1 1);\n"
-                "            faceZone rotor;\n            cellZone rotor;\n"
-                "            cellZoneInside inside;\n        }\n"
-              : "")
        << "    }\n    resolveFeatureAngle 30;\n    refinementRegions {}\n"
        << "    locationInMesh " << vec(xIn, yIn, zIn) << ";\n"
        << "    allowFreeStandingZoneFaces true;\n}\n\n"
@@ -106,16 +97,6 @@ std::string snappyHexMeshDict(const scene::MixerScene& s) {
        << "mergeTolerance 1e-6;\n";
     return os.str();
 }
-
-// Sliding mesh: the zone's faces become a pair of AMI patches.
-const char* kCreateBaffles =
-    "internalFacesOnly true;\n\nbaffles\n{\n    rotor\n    {\n"
-    "        type faceZone;\n        zoneName rotor;\n        patches\n        {\n"
-    "            master { name AMI1; type cyclicAMI; matchTolerance 0.0001; "
-    "neighbourPatch AMI2; transform noOrdering; }\n"
-    "            slave { name AMI2; type cyclicAMI; matchTolerance 0.0001; "
-    "neighbourPatch AMI1; transform noOrdering; }\n"
-    "        }\n    }\n}\n";
 
 // MRF zone: the cells whose centres lie inside the rotor cylinder, minus every cell that touches a
 // stationary boundary. MRF makes the flux relative on such faces (phi -= (omega x r).S), and on a
@@ -228,16 +209,19 @@ std::string dynamicMeshDict(const scene::MixerScene& s) {
            rotationAxis() + "omega " + num(s.omega()) + ";\n";
 }
 
-// The boundaryField of a field: one entry per patch kind (the weir takes the wall's).
+// The boundaryField of a field: one entry per patch kind (the weir takes the wall's). The sliding
+// mesh adds the shaft's stationary stubs in the end layers and the AMI pair.
 std::string boundary(const scene::MixerScene& s, const std::string& walls, const std::string& inlet,
                      const std::string& outlet, const std::string& shaft,
-                     const std::string& paddles) {
+                     const std::string& paddles, const std::string& shaftEnds) {
     std::ostringstream os;
     os << "boundaryField\n{\n"
        << "    wall { " << walls << " }\n    weir { " << walls << " }\n"
        << "    inlet { " << inlet << " }\n    outlet { " << outlet << " }\n"
        << "    shaft { " << shaft << " }\n    paddles { " << paddles << " }\n";
-    if (s.method == "sm") os << "    \"AMI.*\" { type cyclicAMI; value $internalField; }\n";
+    if (s.method == "sm")
+        os << "    shaftEnds { " << shaftEnds << " }\n"
+           << "    \"AMI.*\" { type cyclicAMI; value $internalField; }\n";
     os << "}\n";
     return os.str();
 }
@@ -252,27 +236,31 @@ void writeFields(const scene::MixerScene& s, const fs::path& dir) {
     writeFoamFile(dir, "0/alpha.powder", "volScalarField",
                   "dimensions [0 0 0 0 0 0 0];\n\ninternalField uniform 0;\n\n" +
                       boundary(s, zg, "type fixedValue; value uniform 1;",
-                               "type inletOutlet; inletValue uniform 0; value uniform 0;", zg, zg));
+                               "type inletOutlet; inletValue uniform 0; value uniform 0;", zg, zg,
+                               zg));
     // Paddles: MRF imposes the frame's velocity on wall faces of zone cells; the few paddle faces
     // of cells left out of the zone (next to the bore) turn with rotatingWallVelocity, which drops
-    // the normal component, so no flux crosses them. The sliding mesh moves them, and
-    // movingWallVelocity follows that motion.
-    const std::string paddles =
-        s.method == "sm" ? "type movingWallVelocity; value uniform (0 0 0);" : rotatingWall(s);
+    // the normal component, so no flux crosses them. The sliding mesh moves the paddles and the
+    // shaft inside the zone, and movingWallVelocity follows that motion; the shaft's stubs in the
+    // stationary end layers turn in place (rotatingWallVelocity).
+    const bool sm = s.method == "sm";
+    const std::string moving = "type movingWallVelocity; value uniform (0 0 0);";
     writeFoamFile(dir, "0/U", "volVectorField",
                   "dimensions [0 1 -1 0 0 0 0];\n\ninternalField uniform (0 0 0);\n\n" +
                       boundary(s, "type noSlip;",
                                "type flowRateInletVelocity; volumetricFlowRate constant " +
                                    num(s.feedM3S()) + "; value uniform (0 0 0);",
                                "type pressureInletOutletVelocity; value uniform (0 0 0);",
-                               rotatingWall(s), paddles));
+                               sm ? moving : rotatingWall(s), sm ? moving : rotatingWall(s),
+                               rotatingWall(s)));
     const std::string ffp = "type fixedFluxPressure; value uniform 0;";
     // prghTotalPressure fixes p itself (not p_rgh) at the discharge: powder leaving at the bottom
     // of the outlet sees ambient pressure, not a column of its own weight.
     writeFoamFile(dir, "0/p_rgh", "volScalarField",
                   "dimensions [1 -1 -2 0 0 0 0];\n\ninternalField uniform 0;\n\n" +
                       boundary(s, ffp, ffp,
-                               "type prghTotalPressure; p0 uniform 0; value uniform 0;", ffp, ffp));
+                               "type prghTotalPressure; p0 uniform 0; value uniform 0;", ffp, ffp,
+                               ffp));
 }
 
 }  // namespace
@@ -288,11 +276,16 @@ void writeMixerMeshCase(const scene::MixerScene& s, const fs::path& dir, int np)
     barrelSurface(g).write(dir / "constant/triSurface/barrel.stl");
     shaftSurface(g).write(dir / "constant/triSurface/shaft.stl");
     paddleSurface(g).write(dir / "constant/triSurface/paddles.stl");
-    rotorSurface(g).write(dir / "constant/triSurface/rotor.stl");
-    writeFoamFile(dir, "system/blockMeshDict", "dictionary", blockMeshDict(s));
-    writeFoamFile(dir, "system/snappyHexMeshDict", "dictionary", snappyHexMeshDict(s));
-    writeFoamFile(dir, "system/createBafflesDict", "dictionary", kCreateBaffles);
-    writeFoamFile(dir, "system/topoSetDict", "dictionary", topoSetDict(s));
+    if (s.method == "sm") {
+        writeFoamFile(dir, "system/blockMeshDict", "dictionary", smBlockMeshDict(s));
+        writeFoamFile(dir, "system/topoSetDict", "dictionary", smTopoSetDict(s));
+        writeFoamFile(dir, "system/topoSetDict.inlet", "dictionary", smInletTopoSetDict(s));
+        writeFoamFile(dir, "system/createPatchDict", "dictionary", smCreatePatchDict());
+    } else {
+        writeFoamFile(dir, "system/blockMeshDict", "dictionary", blockMeshDict(s));
+        writeFoamFile(dir, "system/snappyHexMeshDict", "dictionary", snappyHexMeshDict(s));
+        writeFoamFile(dir, "system/topoSetDict", "dictionary", topoSetDict(s));
+    }
     writeFoamFile(dir, "system/controlDict", "dictionary", controlDict(s));
     writeFoamFile(dir, "system/fvSchemes", "dictionary", fvSchemes(s));
     writeFoamFile(dir, "system/fvSolution", "dictionary", fvSolution(s));
@@ -300,15 +293,9 @@ void writeMixerMeshCase(const scene::MixerScene& s, const fs::path& dir, int np)
 }
 
 std::vector<std::vector<std::string>> mixerMeshSteps(const scene::MixerScene& s) {
-    std::vector<std::vector<std::string>> steps{{"blockMesh"}, {"snappyHexMesh", "-overwrite"}};
-    if (s.method == "sm") {
-        steps.push_back({"createBaffles", "-overwrite"});
-        steps.push_back({"mergeOrSplitBaffles", "-split", "-overwrite"});
-    } else {
-        steps.push_back({"topoSet", "-constant"});
-    }
-    steps.push_back({"checkMesh", "-constant"});
-    return steps;
+    if (s.method == "sm") return smMeshSteps();
+    return {{"blockMesh"}, {"snappyHexMesh", "-overwrite"}, {"topoSet", "-constant"},
+            {"checkMesh", "-constant"}};
 }
 
 void writeMixerSolverCase(const scene::MixerScene& s, const fs::path& dir) {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The 3D continuous mixer as an interFoam case: generated surfaces, blockMesh + snappyHexMesh, a
-// rotating cellZone used by MRF (mrf, lts) or turned as a sliding mesh with AMI (sm).
+// The 3D continuous mixer as an interFoam case: generated surfaces and a castellated
+// blockMesh + snappyHexMesh mesh with a frozen-rotor cellZone (mrf, lts), or a blockMesh O-grid
+// whose rotor zone turns as a sliding mesh behind an AMI (sm, mixer_sm_mesh).
 #pragma once
 #include <filesystem>
 #include <string>
@@ -12,7 +13,7 @@ namespace mixload::cases {
 
 inline constexpr const char* kLoadingMonitor = "loading";
 
-// Writes surfaces, the meshing dictionaries (blockMesh, snappyHexMesh, topoSet, createBaffles) and
+// Writes surfaces, the meshing dictionaries (blockMesh, snappyHexMesh or createPatch, topoSet) and
 // the system dictionaries the utilities and the solver share (controlDict, fvSchemes, fvSolution,
 // decomposeParDict).
 void writeMixerMeshCase(const scene::MixerScene& s, const std::filesystem::path& caseDir, int np);

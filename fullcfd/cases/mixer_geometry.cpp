@@ -14,15 +14,6 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr int kSectors = 96;  // around the bore: 3.3 mm chords on a 0.1 m bore
 
-Vec3 operator+(Vec3 a, Vec3 b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Vec3 operator-(Vec3 a, Vec3 b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3 operator*(double s, Vec3 a) { return {s * a[0], s * a[1], s * a[2]}; }
-Vec3 cross(Vec3 a, Vec3 b) {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double dot(Vec3 a, Vec3 b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-double norm(Vec3 a) { return std::sqrt(dot(a, a)); }
-
 // Adds a triangle, flipped if needed so that its normal points along `outward`.
 void add(std::vector<Triangle>& tris, Vec3 a, Vec3 b, Vec3 c, Vec3 outward) {
     if (dot(cross(b - a, c - a), outward) < 0) std::swap(b, c);
@@ -111,6 +102,9 @@ void Surface::write(const std::filesystem::path& file) const {
     writeFileAtomic(file, os.str());
 }
 
+// Chord direction (sin a, cos a) in (y, z) is the polar angle pi/2 - a.
+double weirChordPhi(const scene::MixerGeometry& g) { return kPi / 2 - g.weirChordDeg * kPi / 180.0; }
+
 bool onWeir(const scene::MixerGeometry& g, double y, double z) {
     // The chord runs through the axis at weirChordDeg from vertical; its normal is (cos a, -sin a).
     const double a = g.weirChordDeg * kPi / 180.0;
@@ -127,9 +121,7 @@ Surface barrelSurface(const scene::MixerGeometry& g) {
     disc(s, 0.0, R, 0.0, -1.0, rings, [&](double y, double z) {
         return y * y + (z - g.inletHeight) * (z - g.inletHeight) < ri * ri ? "inlet" : "wall";
     });
-    // Chord direction (sin a, cos a) in (y, z) is the polar angle pi/2 - a.
-    const double chordPhi = kPi / 2 - g.weirChordDeg * kPi / 180.0;
-    disc(s, L, R, chordPhi, 1.0, rings,
+    disc(s, L, R, weirChordPhi(g), 1.0, rings,
          [&](double y, double z) { return onWeir(g, y, z) ? "weir" : "outlet"; });
     return s;
 }
@@ -145,23 +137,28 @@ Surface shaftSurface(const scene::MixerGeometry& g) {
     return s;
 }
 
-Surface paddleSurface(const scene::MixerGeometry& g) {
-    Surface s;
-    auto& t = s.solid("paddles").triangles;
+PaddleBox paddleBox(const scene::MixerGeometry& g, int i, double thickness) {
     const double beta = g.pitchDeg * kPi / 180.0;
     // Rooted halfway into the shaft so that snappy sees one connected impeller.
     const double r0 = 0.5 * g.shaftRadius(), r1 = g.tipRadius();
+    const double phi = g.paddleAngleDeg(i) * kPi / 180.0;
+    const Vec3 er{0, std::cos(phi), std::sin(phi)};
+    const Vec3 ephi{0, -std::sin(phi), std::cos(phi)};  // direction of motion for rpm > 0
+    const Vec3 np = std::cos(beta) * ephi + std::sin(beta) * Vec3{1, 0, 0};
+    const Vec3 ew = cross(np, er);
+    return {Vec3{g.paddleX(i), 0, 0} + 0.5 * (r0 + r1) * er,
+            {0.5 * (r1 - r0) * er, 0.5 * g.paddleWidth * ew, 0.5 * thickness * np}};
+}
+
+Surface paddleSurface(const scene::MixerGeometry& g) {
+    Surface s;
+    auto& t = s.solid("paddles").triangles;
     for (int i = 0; i < g.paddleCount; ++i) {
-        const double phi = g.paddleAngleDeg(i) * kPi / 180.0;
-        const Vec3 er{0, std::cos(phi), std::sin(phi)};
-        const Vec3 ephi{0, -std::sin(phi), std::cos(phi)};  // direction of motion for rpm > 0
-        // Face normal tilted from the direction of motion towards +x: the paddle conveys to +x.
-        const Vec3 np = std::cos(beta) * ephi + std::sin(beta) * Vec3{1, 0, 0};
-        const Vec3 ew = cross(np, er);
-        const Vec3 c = Vec3{g.paddleX(i), 0, 0} + 0.5 * (r0 + r1) * er;
-        const Vec3 h[3] = {0.5 * (r1 - r0) * er, 0.5 * g.paddleWidth * ew,
-                           0.5 * g.paddleThickness * np};
-        auto corner = [&](int a, int b, int d) { return c + double(a) * h[0] + double(b) * h[1] + double(d) * h[2]; };
+        const PaddleBox b = paddleBox(g, i, g.paddleThickness);
+        const auto& h = b.half;
+        auto corner = [&](int a, int c, int d) {
+            return b.centre + double(a) * h[0] + double(c) * h[1] + double(d) * h[2];
+        };
         // Each of the 6 faces: fixed axis k at sign sk, spanned by the other two.
         for (int k = 0; k < 3; ++k)
             for (int sk : {-1, 1}) {
@@ -180,17 +177,6 @@ Surface paddleSurface(const scene::MixerGeometry& g) {
                 add(t, q[0], q[2], q[3], out);
             }
     }
-    return s;
-}
-
-Surface rotorSurface(const scene::MixerGeometry& g) {
-    Surface s;
-    auto& t = s.solid("rotor").triangles;
-    const double x0 = g.rotorX0(), x1 = g.rotorX1();
-    const int axial = std::max(1, static_cast<int>(std::ceil((x1 - x0) / 0.01)));
-    cylinderSide(t, g.rotorRadius(), x0, x1, axial, true);
-    discCap(t, x0, g.rotorRadius(), -1.0);
-    discCap(t, x1, g.rotorRadius(), 1.0);
     return s;
 }
 

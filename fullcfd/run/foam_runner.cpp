@@ -68,6 +68,11 @@ double latestTime(const fs::path& caseDir) {
     return latest;
 }
 
+std::string interFoamPath() {
+    if (const char* env = std::getenv("MIXLOAD_INTERFOAM")) return env;
+    return MIXLOAD_INTERFOAM;
+}
+
 double runSolver(const SolverRun& r) {
     const auto start = std::chrono::steady_clock::now();
     Progress bar(r.label, r.progress);
@@ -77,16 +82,20 @@ double runSolver(const SolverRun& r) {
             bar.update(t / r.endTime, "t = " + line.substr(7) + " s");
         }
     };
-    const std::string logName = "log." + r.solver;
+    // Logs keep the solver's plain name (log.interFoam) wherever its binary lives.
+    const std::string name = fs::path(r.solver).filename().string() == "mixloadInterFoam"
+                                 ? "interFoam"
+                                 : fs::path(r.solver).filename().string();
+    const std::string logName = "log." + name;
     if (r.np <= 1) {
-        check(run(r.caseDir, {r.solver}, logName, onLine), r.caseDir, r.solver, logName);
+        check(run(r.caseDir, {r.solver}, logName, onLine), r.caseDir, name, logName);
     } else {
         if (!fs::exists(r.caseDir / "processor0")) {
             runUtility(r.caseDir, {"decomposePar", "-force"});
         }
         check(run(r.caseDir,
                   {"mpirun", "-np", std::to_string(r.np), r.solver, "-parallel"}, logName, onLine),
-              r.caseDir, "mpirun " + r.solver, logName);
+              r.caseDir, "mpirun " + name, logName);
         runUtility(r.caseDir, {"reconstructPar", "-newTimes"});
     }
     bar.finish();

@@ -20,9 +20,13 @@ std::vector<std::pair<std::string, std::string>> foamEnvironment();
 // Runs an OpenFOAM utility in caseDir, logging to log.<name>; throws RunError on failure.
 void runUtility(const std::filesystem::path& caseDir, const std::vector<std::string>& argv);
 
+// mixload's own build of interFoam (fullcfd/solver; MIXLOAD_INTERFOAM overrides), not Debian's
+// /usr/bin/interFoam, which diverges on meshes whose faces are not aligned with the axes.
+std::string interFoamPath();
+
 struct SolverRun {
     std::filesystem::path caseDir;
-    std::string solver = "interFoam";
+    std::string solver = interFoamPath();
     int np = 1;
     double endTime = 1.0;   // for progress only
     bool progress = false;  // show percentage/ETA on a terminal

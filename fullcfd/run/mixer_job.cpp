@@ -30,13 +30,6 @@ nlohmann::json runMixer(const MixerJob& job) {
     requireRange("np", job.np, 1, 256);
     const fs::path dir = fs::absolute(job.out.empty() ? defaultMixerDir(s, job.np) : job.out);
     if (auto done = checkRunDir(dir, s.hash(), job.reuse)) return *done;
-    // The sliding mesh needs a snapped, smooth rotor interface, and every snapped mixer mesh tried
-    // so far blows up on a resting bed (README, mixer section). Say so instead of burning minutes.
-    if (s.method == "sm")
-        throw RunError("method sm is not usable yet: its AMI needs a snapped rotor interface, and "
-                       "snapped mixer meshes are unstable in interFoam (see README, mixer); use "
-                       "mrf or lts");
-
     const auto t0 = std::chrono::steady_clock::now();
     double meshSeconds = 0;
     const bool fresh = !job.reuse || !fs::exists(dir / "constant" / "polyMesh");

@@ -4,6 +4,7 @@
 #include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
 #include "mixload_version.hpp"
+#include "run/foam_runner.hpp"
 
 namespace mixload::run {
 
@@ -29,6 +30,18 @@ void buildCaseAtomically(const fs::path& dir, const std::function<void(const fs:
     fs::create_directories(tmp);
     try {
         build(tmp);
+    } catch (const RunError& e) {
+        // A utility failed: keep its logs under a name that cannot pass for a case, and point
+        // the message there instead of at the vanished tmp directory.
+        fs::path failed = dir;
+        failed += ".failed";
+        fs::remove_all(failed);
+        fs::rename(tmp, failed);
+        std::string msg = e.what();
+        for (auto at = msg.find(tmp.string()); at != std::string::npos;
+             at = msg.find(tmp.string(), at + failed.string().size()))
+            msg.replace(at, tmp.string().size(), failed.string());
+        throw RunError(msg);
     } catch (...) {
         fs::remove_all(tmp);
         throw;

@@ -17,7 +17,8 @@ std::optional<nlohmann::json> checkRunDir(const std::filesystem::path& dir, cons
                                           bool reuse);
 
 // Builds the case in a sibling "<dir>.tmp" with build(tmp) and renames it to dir: a directory
-// under the final name always holds a complete case, and a failed build leaves nothing.
+// under the final name always holds a complete case. A failed OpenFOAM utility (RunError) leaves
+// its partial case in "<dir>.failed" for its logs; any other failure leaves nothing.
 void buildCaseAtomically(const std::filesystem::path& dir,
                          const std::function<void(const std::filesystem::path&)>& build);
 
