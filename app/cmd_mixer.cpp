@@ -55,6 +55,8 @@ void addMixer(CLI::App& app, Action& action) {
                       << r["core_seconds"].get<double>() << " s"
                       << "\n  run dir " << r["run_dir"].get<std::string>() << "\n  plot "
                       << r["plot"].get<std::string>() << '\n';
+            if (r.contains("warning"))
+                std::cout << "  WARNING: " << r["warning"].get<std::string>() << '\n';
             return 0;
         };
     });

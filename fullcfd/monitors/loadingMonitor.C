@@ -187,6 +187,13 @@ bool Foam::functionObjects::loadingMonitor::execute()
         }
     }
 
+    // A run stopped by its cap writes its last state, so that a longer cap resumes from there
+    // instead of from the last regular write.
+    if (!steady_ && t >= time_.endTime().value() - 0.5*time_.deltaTValue())
+    {
+        const_cast<Time&>(time_).writeNow();
+    }
+
     setProperty("fed", fed_);
     setProperty("out", out_);
     setProperty("sampleTimes", scalarList(ts_));

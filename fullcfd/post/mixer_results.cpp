@@ -120,7 +120,25 @@ nlohmann::json mixerResult(const scene::MixerScene& s, const fs::path& caseDir) 
                       }()},
                      {"out_kg", outSinceStart},
                      {"history", history}};
-    if (!lts) r["revolutions"] = end / s.revolutionTime();
+    if (!lts) {
+        r["revolutions"] = end / s.revolutionTime();
+        // Leak rate [kg/h, negative = lost], judged against the powder that moved plus a floor of
+        // 1e-4 of the initial loading for numerical noise on a bed at rest.
+        const double leak = gained - (fedSinceStart - outSinceStart);
+        const double duration = std::max(1e-12, end - t.front());
+        const bool ok =
+            std::abs(leak) <= 0.01 * (fedSinceStart + outSinceStart) + 1e-4 * first.loading;
+        r["powder_leak_kg_h"] = leak / duration * 3600.0;
+        r["powder_balance_ok"] = ok;
+        if (!ok) {
+            std::ostringstream w;
+            w << "powder is not conserved: " << std::abs(leak) << " kg " << (leak < 0 ? "lost" : "created")
+              << " in " << duration << " s (" << std::abs(leak) / duration * 3600.0
+              << " kg/h against a feed of " << s.feedKgH << " kg/h); do not trust this loading";
+            r["warning"] = w.str();
+        }
+    }
+    r["final_max_powder_speed_m_s"] = last.maxPowderSpeed;
     if (verdict) r["steady_verdict"] = *verdict;
     return r;
 }

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Tiny real mixer runs (gcm250 on a 1 cm background mesh, about 8k cells) through interFoam with
-// mixload's rheology and loading monitor: powder balance, an active MRF zone, a resting bed, and
-// bad input.
+// Tiny real mixer runs (gcm250 on a 1 cm mesh, 6-8k cells) through mixload's interFoam with its
+// rheology and loading monitor: powder balance, an active MRF zone, a sliding mesh that turns as a
+// solid body, resting beds, the sliding mesh's powder leak being reported, and bad input.
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <numbers>
@@ -11,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_harness.hpp"
+#include "foam_points.hpp"
 
 using namespace mixload::testing;
 namespace fs = std::filesystem;
@@ -52,6 +54,75 @@ TEST(MixerRun, MrfReportsEveryFieldAndBalancesPowder) {
     EXPECT_GT(fed, 0);
     EXPECT_LT(std::abs(fed - out - gained), 0.01 * fed);
     EXPECT_NEAR(r["initial_loading_kg"].get<double>(), 0.3, 0.1);  // staircase cells: not exact
+    EXPECT_TRUE(r["powder_balance_ok"].get<bool>());
+    EXPECT_FALSE(r.contains("warning"));
+}
+
+TEST(MixerRun, SmZoneTurnsAsASolidBody) {
+    // 254 rpm: every point of the rotor zone turns by omega t about the x axis, nothing else moves.
+    const auto r = runMixer("sm-turn", {"--method", "sm", "--rpm", "254", "--end-time", "0.015"});
+    ASSERT_FALSE(r.is_null());
+    const fs::path dir = r["run_dir"].get<std::string>();
+    fs::path last;
+    double t = 0;
+    for (const auto& e : fs::directory_iterator(dir)) {
+        const std::string name = e.path().filename().string();
+        if (!std::isdigit(static_cast<unsigned char>(name[0])) ||
+            !fs::exists(e.path() / "polyMesh" / "points"))
+            continue;
+        const double te = std::stod(name);
+        if (te > t) t = te, last = e.path();
+    }
+    ASSERT_GT(t, 0.01) << "no moved mesh written";
+    const auto p0 = readFoamPoints(dir / "constant" / "polyMesh" / "points");
+    const auto p1 = readFoamPoints(last / "polyMesh" / "points");
+    ASSERT_EQ(p0.size(), p1.size());
+    const double turn = 254 * 2 * std::numbers::pi / 60 * t;
+    size_t moved = 0;
+    for (size_t i = 0; i < p0.size(); ++i) {
+        const auto &a = p0[i], &b = p1[i];
+        EXPECT_NEAR(a[0], b[0], 1e-12);
+        const double angle = std::atan2(a[1] * b[2] - a[2] * b[1], a[1] * b[1] + a[2] * b[2]);
+        if (std::abs(angle) < 1e-9 && std::hypot(a[1] - b[1], a[2] - b[2]) < 1e-12) continue;
+        ++moved;
+        EXPECT_NEAR(angle, turn, 1e-6 * turn) << "point " << i;
+        EXPECT_NEAR(std::hypot(a[1], a[2]), std::hypot(b[1], b[2]), 1e-12);
+        // Only rotor points move: inside the zone's cylinder, away from the end faces.
+        EXPECT_GT(a[0], 0.003);
+        EXPECT_LT(a[0], 0.297);
+        EXPECT_LT(std::hypot(a[1], a[2]), 0.0486);
+    }
+    EXPECT_GT(moved, p0.size() / 3);
+    EXPECT_LT(moved, p0.size());
+}
+
+TEST(MixerRun, SmRestingBedStaysAtRest) {
+    // The resting bed of the MRF test on the sliding mesh's O-grid: the stair-stepped surface of
+    // the initial deposit settles (measured peak 0.03 m/s in the first 0.03 s), then the bed is
+    // still (measured 2.4e-3 m/s at 0.5 s) and keeps its mass.
+    const auto scene = writeScene("rest-sm", "[weir]\nchord_angle_deg = 85\ncovers = \"+y\"\n"
+                                             "[operation]\nrpm = 0\nfeed_kg_h = 0\n"
+                                             "initial_loading_kg = 0.3\n");
+    const auto r = runMixer("rest-sm", {"--scene", scene.string(), "--method", "sm",
+                                        "--end-time", "0.5"});
+    ASSERT_FALSE(r.is_null());
+    EXPECT_LT(r["max_powder_speed_m_s"].get<double>(), 0.05);
+    EXPECT_LT(r["final_max_powder_speed_m_s"].get<double>(), 0.005);
+    EXPECT_LT(std::abs(r["final_loading_kg"].get<double>() - r["initial_loading_kg"].get<double>()),
+              1e-5);
+    EXPECT_TRUE(r["powder_balance_ok"].get<bool>());
+}
+
+TEST(MixerRun, SmLeaksPowderAndSaysSo) {
+    // OpenFOAM v1912's AMI does not carry the powder flux across a moving interface conservatively
+    // (README, mixer): at 39 rpm the tiny mesh loses about 60 kg/h against a 5 kg/h feed. mixload
+    // must flag that loading rather than report it as a result. If a future OpenFOAM fixes the
+    // leak, this test fails and the README's sliding-mesh section must be revised.
+    const auto r = runMixer("sm-leak", {"--method", "sm", "--end-time", "0.05"});
+    ASSERT_FALSE(r.is_null());
+    EXPECT_FALSE(r["powder_balance_ok"].get<bool>());
+    EXPECT_LT(r["powder_leak_kg_h"].get<double>(), -5.0);
+    EXPECT_NE(r["warning"].get<std::string>().find("not conserved"), std::string::npos);
 }
 
 TEST(MixerRun, MrfZoneDrivesThePowderAtTipSpeed) {
