@@ -1,11 +1,17 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Benchmarks print time and quality side by side; they are not tests.
 #include <filesystem>
+#include <iomanip>
 #include <iostream>
+
+#include <sstream>
 
 #include "app/collapse_options.hpp"
 #include "app/commands.hpp"
+#include "app/mixer_options.hpp"
+#include "common/input_error.hpp"
 #include "run/collapse_job.hpp"
+#include "run/mixer_job.hpp"
 
 namespace mixload::app {
 
@@ -16,6 +22,49 @@ struct BenchCollapse {
     std::string out = "runs/bench-collapse";
     bool json = false;
 };
+
+struct BenchMixer {
+    MixerOptions scene;
+    std::vector<std::string> methods{"mrf", "lts", "sm"};
+    int np = 1;
+    std::string out = "runs/bench-mixer";
+    bool json = false;
+};
+
+// One method's row: cost per simulated second and per revolution (per iteration for lts, whose
+// pseudo-time is not time), the time to a steady loading if the run got there, and the powder
+// balance, because a cheap answer that leaks is not an answer.
+nlohmann::json mixerRow(const scene::MixerScene& s, const nlohmann::json& r, int np) {
+    const bool lts = s.method == "lts";
+    const double solver = r["solver_wall_seconds"].get<double>();
+    const double span = r["end_time_s"].get<double>();
+    nlohmann::json row{{"method", s.method},
+                       {"cells", r["cells"]},
+                       {"np", np},
+                       {"wall_seconds", r["wall_seconds"]},
+                       {"solver_wall_seconds", solver},
+                       {"core_seconds", r["core_seconds"]},
+                       {"simulated", span},
+                       {"simulated_unit", lts ? "iteration" : "s"},
+                       {"final_loading_kg", r["final_loading_kg"]},
+                       {"steady", r["steady"]},
+                       {"steady_time_s", r["steady_time_s"]},
+                       {"wall_seconds_to_steady", r["steady"].get<bool>() ? r["wall_seconds"] : nlohmann::json()},
+                       {"powder_leak_kg_h", r.value("powder_leak_kg_h", nlohmann::json())},
+                       {"powder_balance_ok", r.value("powder_balance_ok", nlohmann::json())}};
+    if (lts) {
+        row["wall_seconds_per_iteration"] = solver / span;
+        row["wall_seconds_per_simulated_s"] = nullptr;
+        row["wall_seconds_per_revolution"] = nullptr;
+        row["core_seconds_per_simulated_s"] = nullptr;
+    } else {
+        row["wall_seconds_per_simulated_s"] = solver / span;
+        row["core_seconds_per_simulated_s"] = solver * np / span;
+        row["wall_seconds_per_revolution"] = solver / span * s.revolutionTime();
+        row["core_seconds_per_revolution"] = solver * np / span * s.revolutionTime();
+    }
+    return row;
+}
 }  // namespace
 
 void addBench(CLI::App& app, Action& action) {
@@ -68,6 +117,78 @@ void addBench(CLI::App& app, Action& action) {
                             r["cells"].get<long>(), r["time_steps"].get<double>(),
                             r["solver_wall_seconds"].get<double>(), r["core_seconds"].get<double>(),
                             r["cell_steps_per_second"].get<double>(), r["runout_star"].get<double>());
+            return 0;
+        };
+    });
+
+    auto* m = bench->add_subcommand(
+        "mixer", "Mixer on one mesh: cost per simulated second and per revolution of mrf, lts and sm, "
+                 "time to steady, powder balance (short runs: --end-time defaults to 0.5 s and "
+                 "--lts-iterations to 100 here)");
+    auto mo = std::make_shared<BenchMixer>();
+    mo->scene.add(m, /*withMethod=*/false);
+    m->add_option("--methods", mo->methods, "Methods to compare, in one run")
+        ->delimiter(',')
+        ->capture_default_str();
+    m->add_option("--np", mo->np, "MPI ranks for every method")->capture_default_str();
+    m->add_option("--out", mo->out, "Scratch directory (replaced)")->capture_default_str();
+    m->add_flag("--json", mo->json, "Print JSON");
+    m->callback([&action, mo] {
+        action = [mo] {
+            // Short runs unless the user asks for more: a benchmark measures rates, not answers.
+            MixerOptions opts = mo->scene;
+            if (!opts.endTime) opts.endTime = 0.5;
+            if (!opts.ltsIterations) opts.ltsIterations = 100;
+            for (const auto& meth : mo->methods)
+                if (meth != "mrf" && meth != "lts" && meth != "sm")
+                    throw InputError("methods", meth, "mrf|lts|sm");
+            requireRange("np", mo->np, 1, 256);
+            std::vector<scene::MixerScene> scenes;
+            for (const auto& meth : mo->methods) {
+                opts.method = meth;
+                scenes.push_back(opts.build());  // every input checked before anything runs
+            }
+            std::filesystem::remove_all(mo->out);
+            nlohmann::json rows = nlohmann::json::array();
+            for (const auto& s : scenes) {
+                run::MixerJob job;
+                job.scene = s;
+                job.np = mo->np;
+                job.out = std::filesystem::path(mo->out) / s.method;
+                job.progress = !mo->json;
+                job.reuse = false;
+                rows.push_back(mixerRow(s, run::runMixer(job), mo->np));
+            }
+            const nlohmann::json out = {{"benchmark", "mixer"}, {"scene", scenes.front().toJson()},
+                                        {"runs", rows}};
+            if (mo->json) {
+                std::cout << out.dump(2) << '\n';
+                return 0;
+            }
+            const auto& s0 = scenes.front();
+            std::cout << "mixer benchmark: " << s0.name << ", " << s0.rpm << " rpm, feed "
+                      << s0.feedKgH << " kg/h, mesh " << s0.mesh << ", np " << mo->np << "\n";
+            std::printf("%-4s %7s %10s %12s %14s %14s %8s %12s\n", "", "cells", "simulated",
+                        "solver [s]", "wall/sim s", "wall/rev", "steady", "leak [kg/h]");
+            for (const auto& r : rows) {
+                auto num = [](const nlohmann::json& v) {
+                    std::ostringstream os;
+                    if (v.is_null()) os << "-";
+                    else os << std::setprecision(4) << v.get<double>();
+                    return os.str();
+                };
+                std::printf("%-4s %7ld %8.4g %-2s %12.1f %14s %14s %8s %12s\n",
+                            r["method"].get<std::string>().c_str(), r["cells"].get<long>(),
+                            r["simulated"].get<double>(),
+                            r["simulated_unit"] == "s" ? "s" : "it",
+                            r["solver_wall_seconds"].get<double>(),
+                            num(r["method"] == "lts" ? r["wall_seconds_per_iteration"]
+                                                     : r["wall_seconds_per_simulated_s"]).c_str(),
+                            num(r["wall_seconds_per_revolution"]).c_str(),
+                            r["steady"].get<bool>() ? "yes" : "no",
+                            num(r["powder_leak_kg_h"]).c_str());
+            }
+            std::cout << "(lts: wall/sim s is per pseudo-time iteration)\n";
             return 0;
         };
     });
