@@ -1,0 +1,162 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "studies/mixer_study.hpp"
+
+#include <atomic>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include "common/atomic_file.hpp"
+#include "common/gnuplot.hpp"
+#include "common/progress.hpp"
+#include "run/foam_runner.hpp"
+#include "run/mixer_job.hpp"
+
+namespace mixload::experiments {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string series(const nlohmann::json& r, const char* fixed) {
+    std::ostringstream os;
+    os << r["method"].get<std::string>() << ' ' << r["mesh"].get<std::string>() << ' ';
+    if (std::string(fixed) == "rpm") os << r["rpm"].get<double>() << " rpm";
+    else os << r["feed_kg_h"].get<double>() << " kg/h";
+    return os.str();
+}
+
+std::string plotStudy(const fs::path& out, const nlohmann::json& rows) {
+    // Left: M against feed, one line per method/mesh/rpm. Right: M against rpm, one per feed.
+    // Unsteady or leaking points are drawn hollow: they are not results.
+    std::map<std::string, std::ostringstream> byFeed, byRpm;
+    for (const auto& r : rows) {
+        if (!r.contains("loading_kg")) continue;
+        const bool good = r["steady"].get<bool>() && r.value("powder_balance_ok", true);
+        byFeed[series(r, "rpm")] << r["feed_kg_h"].get<double>() << ' ' << r["loading_kg"].get<double>()
+                                 << ' ' << (good ? 7 : 6) << '\n';
+        byRpm[series(r, "feed")] << r["rpm"].get<double>() << ' ' << r["loading_kg"].get<double>()
+                                 << ' ' << (good ? 7 : 6) << '\n';
+    }
+    std::ostringstream gp;
+    gp << "set terminal pngcairo size 1200,480 noenhanced\nset output 'study.png'\n"
+       << "set multiplot layout 1,2\nset grid\nset key left top\nset ylabel 'loading M [kg]'\n";
+    int k = 0;
+    auto plot = [&](std::map<std::string, std::ostringstream>& data, const char* xlabel) {
+        gp << "set xlabel '" << xlabel << "'\nplot ";
+        bool first = true;
+        for (auto& [name, d] : data) {
+            const std::string file = "series" + std::to_string(k++) + ".dat";
+            std::ofstream(out / file) << d.str();
+            gp << (first ? "" : ", ") << "'" << file
+               << "' using 1:2:3 with linespoints pt variable ps 1.5 lw 2 title '" << name << "'";
+            first = false;
+        }
+        gp << '\n';
+    };
+    plot(byFeed, "feed [kg/h]  (hollow: not steady or powder not conserved)");
+    plot(byRpm, "impeller speed [rpm]");
+    gp << "unset multiplot\n";
+    return runGnuplot(out, "study.gp", gp.str());
+}
+
+std::string cell(const nlohmann::json& v, const char* fmt) {
+    if (v.is_null()) return "-";
+    char b[64];
+    std::snprintf(b, sizeof b, fmt, v.get<double>());
+    return b;
+}
+
+}  // namespace
+
+nlohmann::json runMixerStudy(const MixerStudy& study) {
+    const fs::path runs = study.runs.empty() ? study.out / "runs" : study.runs;
+    fs::create_directories(runs);
+    fs::create_directories(study.out);
+    nlohmann::json rows = nlohmann::json::array();
+    for (const auto& s : study.scenes)
+        rows.push_back({{"method", s.method},
+                        {"mesh", s.mesh},
+                        {"rpm", s.rpm},
+                        {"feed_kg_h", s.feedKgH},
+                        {"initial_loading_kg", s.initialLoadingKg},
+                        {"scene_hash", s.hash()}});
+
+    std::atomic<size_t> next{0}, done{0};
+    std::mutex m;
+    Progress bar("mixer study", study.progress);
+    const auto worker = [&] {
+        for (size_t i; (i = next++) < study.scenes.size();) {
+            run::MixerJob job;
+            job.scene = study.scenes[i];
+            job.np = study.np;
+            job.out = runs / study.scenes[i].hash();
+            nlohmann::json r;
+            try {
+                r = run::runMixer(job);
+            } catch (const run::RunError& e) {
+                r = {{"error", e.what()}};
+            }
+            std::lock_guard<std::mutex> lock(m);
+            for (const char* k : {"loading_kg", "loading_std_kg", "steady", "steady_time_s",
+                                  "outflow_kg_h", "powder_leak_kg_h", "powder_balance_ok",
+                                  "end_time_s", "cells", "wall_seconds", "core_seconds", "error",
+                                  "run_dir"})
+                if (r.contains(k)) rows[i][k] = r[k];
+            bar.update(double(++done) / study.scenes.size(),
+                       std::to_string(done) + "/" + std::to_string(study.scenes.size()) + " runs");
+        }
+    };
+    std::vector<std::thread> pool;
+    for (int j = 0; j < std::max(1, study.jobs); ++j) pool.emplace_back(worker);
+    for (auto& t : pool) t.join();
+    bar.finish();
+
+    std::ostringstream csv, md;
+    csv << "method,mesh,cells,rpm,feed_kg_h,loading_kg,loading_std_kg,steady,steady_time_s,"
+           "outflow_kg_h,powder_leak_kg_h,powder_balance_ok,end_time_s,wall_seconds,core_seconds\n";
+    md << "| method | mesh | cells | rpm | feed [kg/h] | M [kg] | std [kg] | steady at [s] | outflow "
+          "[kg/h] | leak [kg/h] | simulated | wall [s] | core [s] |\n"
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const auto& r : rows) {
+        const std::string head = r["method"].get<std::string>() + " | " + r["mesh"].get<std::string>();
+        if (!r.contains("loading_kg")) {
+            md << "| " << head << " | | " << r["rpm"] << " | " << r["feed_kg_h"]
+               << " | failed: see run dir |||||||\n";
+            continue;
+        }
+        const bool steady = r["steady"].get<bool>();
+        const nlohmann::json leak = r.value("powder_leak_kg_h", nlohmann::json());
+        const nlohmann::json ok = r.value("powder_balance_ok", nlohmann::json());
+        csv << r["method"].get<std::string>() << ',' << r["mesh"].get<std::string>() << ','
+            << r["cells"] << ',' << r["rpm"] << ',' << r["feed_kg_h"] << ',' << r["loading_kg"] << ','
+            << r["loading_std_kg"] << ',' << (steady ? "yes" : "no") << ','
+            << (steady ? r["steady_time_s"].dump() : "") << ',' << r["outflow_kg_h"] << ','
+            << (leak.is_null() ? "" : leak.dump()) << ','
+            << (ok.is_null() ? "" : (ok.get<bool>() ? "yes" : "no")) << ',' << r["end_time_s"]
+            << ',' << r["wall_seconds"] << ',' << r["core_seconds"] << '\n';
+        md << "| " << head << " | " << r["cells"] << " | " << r["rpm"] << " | " << r["feed_kg_h"]
+           << " | " << cell(r["loading_kg"], "%.4f") << (steady ? "" : " (not steady)")
+           << " | " << cell(r["loading_std_kg"], "%.1e") << " | "
+           << (steady ? cell(r["steady_time_s"], "%.1f") : "-") << " | "
+           << cell(r["outflow_kg_h"], "%.2f") << " | " << cell(leak, "%.3g")
+           << (ok.is_null() || ok.get<bool>() ? "" : " (leaks)") << " | "
+           << cell(r["end_time_s"], "%.4g") << (r["method"] == "lts" ? " it" : " s") << " | "
+           << cell(r["wall_seconds"], "%.0f") << " | " << cell(r["core_seconds"], "%.0f") << " |\n";
+    }
+    writeFileAtomic(study.out / "table.csv", csv.str());
+    writeFileAtomic(study.out / "table.md", md.str());
+    const std::string warn = plotStudy(study.out, rows);
+    nlohmann::json result = {{"rows", rows},
+                             {"table_csv", (study.out / "table.csv").string()},
+                             {"table_md", (study.out / "table.md").string()},
+                             {"plot", warn.empty() ? (study.out / "study.png").string() : ""}};
+    if (!warn.empty()) result["plot_warning"] = warn;
+    writeFileAtomic(study.out / "study.json", result.dump(2));
+    return result;
+}
+
+}  // namespace mixload::experiments
