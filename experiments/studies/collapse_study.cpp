@@ -1,21 +1,18 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "studies/collapse_study.hpp"
 
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <fstream>
 #include <map>
-#include <mutex>
 #include <set>
 #include <sstream>
-#include <thread>
 
 #include "common/atomic_file.hpp"
 #include "common/gnuplot.hpp"
-#include "common/progress.hpp"
 #include "run/collapse_job.hpp"
 #include "run/foam_runner.hpp"
+#include "studies/run_pool.hpp"
 
 namespace mixload::experiments {
 
@@ -81,33 +78,24 @@ nlohmann::json runCollapseStudy(const CollapseStudy& study) {
                         {"cells_per_length", s.cellsPerLength},
                         {"scene_hash", s.hash()}});
 
-    std::atomic<size_t> next{0}, done{0};
-    std::mutex m;
-    Progress bar("collapse study", study.progress);
-    const auto worker = [&] {
-        for (size_t i; (i = next++) < study.scenes.size();) {
+    runPool<nlohmann::json>(
+        study.scenes.size(), study.jobs, "collapse study", study.progress,
+        [&](size_t i) {
             run::CollapseJob job;
             job.scene = study.scenes[i];
             job.out = study.out / "runs" / study.scenes[i].hash();
-            nlohmann::json r;
             try {
-                r = run::runCollapse(job);
+                return run::runCollapse(job);
             } catch (const run::RunError& e) {
-                r = {{"error", e.what()}};
+                return nlohmann::json{{"error", e.what()}};
             }
-            std::lock_guard<std::mutex> lock(m);
+        },
+        [&](size_t i, const nlohmann::json& r) {
             for (const char* k : {"runout_star", "height_star", "stopped_by", "end_time_tstar",
                                   "powder_mass_error", "cells", "time_steps", "solver_wall_seconds",
                                   "error", "run_dir"})
                 if (r.contains(k)) rows[i][k] = r[k];
-            bar.update(double(++done) / study.scenes.size(),
-                       std::to_string(done) + "/" + std::to_string(study.scenes.size()) + " runs");
-        }
-    };
-    std::vector<std::thread> pool;
-    for (int j = 0; j < std::max(1, study.jobs); ++j) pool.emplace_back(worker);
-    for (auto& t : pool) t.join();
-    bar.finish();
+        });
 
     std::ostringstream csv, md;
     csv << "material,rheology,convention,aspect,cells_per_length,runout_star,height_star,stopped_by,"

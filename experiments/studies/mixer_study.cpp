@@ -1,19 +1,16 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "studies/mixer_study.hpp"
 
-#include <atomic>
 #include <cstdio>
 #include <fstream>
 #include <map>
-#include <mutex>
 #include <sstream>
-#include <thread>
 
 #include "common/atomic_file.hpp"
 #include "common/gnuplot.hpp"
-#include "common/progress.hpp"
 #include "run/foam_runner.hpp"
 #include "run/mixer_job.hpp"
+#include "studies/run_pool.hpp"
 
 namespace mixload::experiments {
 
@@ -85,35 +82,26 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
                         {"initial_loading_kg", s.initialLoadingKg},
                         {"scene_hash", s.hash()}});
 
-    std::atomic<size_t> next{0}, done{0};
-    std::mutex m;
-    Progress bar("mixer study", study.progress);
-    const auto worker = [&] {
-        for (size_t i; (i = next++) < study.scenes.size();) {
+    runPool<nlohmann::json>(
+        study.scenes.size(), study.jobs, "mixer study", study.progress,
+        [&](size_t i) {
             run::MixerJob job;
             job.scene = study.scenes[i];
             job.np = study.np;
             job.out = runs / study.scenes[i].hash();
-            nlohmann::json r;
             try {
-                r = run::runMixer(job);
+                return run::runMixer(job);
             } catch (const run::RunError& e) {
-                r = {{"error", e.what()}};
+                return nlohmann::json{{"error", e.what()}};
             }
-            std::lock_guard<std::mutex> lock(m);
+        },
+        [&](size_t i, const nlohmann::json& r) {
             for (const char* k : {"loading_kg", "loading_std_kg", "steady", "steady_time_s",
                                   "outflow_kg_h", "powder_leak_kg_h", "powder_balance_ok",
                                   "end_time_s", "cells", "wall_seconds", "core_seconds", "error",
                                   "run_dir"})
                 if (r.contains(k)) rows[i][k] = r[k];
-            bar.update(double(++done) / study.scenes.size(),
-                       std::to_string(done) + "/" + std::to_string(study.scenes.size()) + " runs");
-        }
-    };
-    std::vector<std::thread> pool;
-    for (int j = 0; j < std::max(1, study.jobs); ++j) pool.emplace_back(worker);
-    for (auto& t : pool) t.join();
-    bar.finish();
+        });
 
     std::ostringstream csv, md;
     csv << "method,mesh,cells,rpm,feed_kg_h,loading_kg,loading_std_kg,steady,steady_time_s,"
