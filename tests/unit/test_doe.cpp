@@ -1,0 +1,149 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Designs of experiments: Latin hypercube strata, maximin and extension, the Sobol sequence, the
+// mu_d > mu_s constraint, and bad ranges files.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+#include "common/input_error.hpp"
+#include "doe/designs.hpp"
+#include "doe/parameter_space.hpp"
+
+using namespace mixload::experiments;
+
+namespace {
+const char* kMixerRanges = R"(scene = "mixer"
+[mu_s]
+min = 0.2
+max = 0.45
+unit = "1"
+[delta_mu]
+min = 0.05
+max = 0.30
+unit = "1"
+[i0]
+min = 0.1
+max = 0.6
+unit = "1"
+[d]
+min = 100e-6
+max = 400e-6
+unit = "m"
+[rho]
+min = 250
+max = 600
+unit = "kg/m3"
+[feed_kg_h]
+min = 5
+max = 45
+unit = "kg/h"
+[rpm]
+min = 39
+max = 254
+unit = "rpm"
+)";
+
+void expectBad(const std::string& text, const std::string& needle) {
+    try {
+        parseRanges(text, "test.toml");
+        ADD_FAILURE() << "accepted: " << text;
+    } catch (const mixload::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+}
+}  // namespace
+
+TEST(Doe, LatinHypercubeHasOnePointPerStratumInEveryDimension) {
+    for (int n : {1, 7, 40}) {
+        const Design d = latinHypercube(n, 7, 42);
+        ASSERT_EQ(d.size(), static_cast<size_t>(n));
+        for (int c = 0; c < 7; ++c) {
+            std::vector<int> strata;
+            for (const auto& p : d) {
+                ASSERT_GE(p[c], 0.0);
+                ASSERT_LT(p[c], 1.0);
+                strata.push_back(static_cast<int>(p[c] * n));
+            }
+            std::sort(strata.begin(), strata.end());
+            for (int i = 0; i < n; ++i) EXPECT_EQ(strata[i], i) << "n " << n << " dim " << c;
+        }
+    }
+}
+
+TEST(Doe, LatinHypercubeIsSeededAndMaximin) {
+    EXPECT_EQ(latinHypercube(20, 3, 7), latinHypercube(20, 3, 7));
+    EXPECT_NE(latinHypercube(20, 3, 7), latinHypercube(20, 3, 8));
+    // Picking the best of 200 hypercubes spreads the points: the smallest distance beats that of a
+    // single random hypercube from the same seed.
+    EXPECT_GT(minDistance(latinHypercube(20, 3, 7, 200)), minDistance(latinHypercube(20, 3, 7, 1)));
+}
+
+TEST(Doe, AugmentedLatinHypercubeAddsOnlyNewPointsInFreeStrata) {
+    const Design old = latinHypercube(10, 4, 1);
+    const Design extra = augmentLatinHypercube(old, 10, 2);
+    ASSERT_EQ(extra.size(), 10u);
+    for (int c = 0; c < 4; ++c) {
+        std::set<int> strata;
+        for (const auto& p : old) strata.insert(static_cast<int>(p[c] * 20));
+        for (const auto& p : extra) {
+            EXPECT_TRUE(strata.insert(static_cast<int>(p[c] * 20)).second)
+                << "a new point shares a stratum (dim " << c << ")";
+        }
+    }
+    // Here the old strata of the coarse division each hold one fine stratum, so the union of
+    // 20 points is itself a Latin hypercube of 20.
+    for (const auto& p : extra)
+        for (const auto& q : old) EXPECT_NE(p, q);
+}
+
+TEST(Doe, SobolIsTheSobolSequenceAndExtendsWithoutRepeating) {
+    // Dimension 1 is van der Corput in Gray-code order, dimension 2 has all direction numbers 1.
+    const Design d = sobol(6, 2);
+    const double x[6] = {0.5, 0.75, 0.25, 0.375, 0.875, 0.625};
+    const double y[6] = {0.5, 0.25, 0.75, 0.375, 0.875, 0.125};
+    for (int i = 0; i < 6; ++i) {
+        EXPECT_DOUBLE_EQ(d[i][0], x[i]) << i;
+        EXPECT_DOUBLE_EQ(d[i][1], y[i]) << i;
+    }
+    const Design all = sobol(16, 7);
+    const Design first = sobol(8, 7), more = sobol(8, 7, 8);
+    for (int i = 0; i < 8; ++i) {
+        EXPECT_EQ(first[i], all[i]);
+        EXPECT_EQ(more[i], all[8 + i]);
+    }
+    std::set<std::vector<double>> unique(all.begin(), all.end());
+    EXPECT_EQ(unique.size(), all.size());
+}
+
+TEST(Doe, RangesMapTheCubeAndKeepMuDAboveMuS) {
+    const ParameterSpace ps = parseRanges(kMixerRanges, "test.toml");
+    EXPECT_EQ(ps.scene, "mixer");
+    ASSERT_EQ(ps.params.size(), 7u);
+    const Parameter* d = ps.find("d");
+    ASSERT_NE(d, nullptr);
+    EXPECT_EQ(d->unit, "m");
+    EXPECT_DOUBLE_EQ(d->max, 400e-6);
+    const auto muS = std::find_if(ps.params.begin(), ps.params.end(), [](auto& p) { return p.name == "mu_s"; }) - ps.params.begin();
+    const auto dMu = std::find_if(ps.params.begin(), ps.params.end(), [](auto& p) { return p.name == "delta_mu"; }) - ps.params.begin();
+    for (const auto& u : latinHypercube(50, 7, 3)) {
+        const auto x = ps.toPhysical(u);
+        for (size_t j = 0; j < x.size(); ++j) {
+            EXPECT_GE(x[j], ps.params[j].min);
+            EXPECT_LE(x[j], ps.params[j].max);
+        }
+        EXPECT_GT(x[muS] + x[dMu], x[muS]);  // mu_d = mu_s + delta_mu
+    }
+}
+
+TEST(Doe, BadRangesAreRefusedWithTheirName) {
+    expectBad("scene = \"mixer\"\n[rho]\nmin = 600\nmax = 250\nunit = \"kg/m3\"\n", "rho.min");
+    expectBad("scene = \"mixer\"\n[viscosity]\nmin = 1\nmax = 2\nunit = \"Pa s\"\n", "parameter = viscosity");
+    expectBad("scene = \"mixer\"\n[d]\nmin = 100\nmax = 400\n", "d.unit = (missing)");
+    expectBad("scene = \"mixer\"\n[d]\nmin = 100\nmax = 400\nunit = \"um\"\n", "d.unit = um");
+    expectBad("scene = \"mixer\"\n[delta_mu]\nmin = -0.1\nmax = 0.2\nunit = \"1\"\n", "delta_mu.min");
+    expectBad("scene = \"mixer\"\n[rpm]\nmin = 39\nmax = 254\nunit = \"rpm\"\nstep = 1\n", "rpm.step");
+    expectBad("[rpm]\nmin = 39\nmax = 254\nunit = \"rpm\"\n", "scene = (missing)");
+    expectBad("scene = \"mixer\"\n", "at least one parameter");
+    expectBad("scene = \"mixer\"\n[rpm\n", "valid TOML");
+}
