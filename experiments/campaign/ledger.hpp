@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The run ledger: one SQLite database (WAL journal, synchronous FULL) per campaign, holding the
+// campaign's inputs and one row per design point with its status, attempts, timings, results and
+// error text. Every change is one transaction, so a process killed at any instant leaves either the
+// old row or the new one, never half of each; a driver that restarts finds runs it had marked
+// running and may take them again (see claimNext).
+#pragma once
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+struct sqlite3;
+
+namespace mixload::experiments {
+
+struct CampaignInfo {
+    std::string name, scene, sceneHash, design, method, mesh, created, mixloadVersion, gitCommit;
+    std::string rangesToml;   // the ranges file as given, kept verbatim
+    nlohmann::json sceneJson; // the base scene (every input)
+    std::uint64_t seed = 0;
+};
+
+struct LedgerRun {
+    long id = 0;
+    int index = 0;           // position in the design
+    nlohmann::json params;   // physical inputs by name
+    std::string status;      // queued | running | done | failed
+    int attempts = 0;
+    std::optional<double> wallSeconds, coreSeconds;
+    nlohmann::json result;   // QoIs of a finished run
+    std::string runDir, error, started, finished;
+};
+
+class Ledger {
+public:
+    // Opens (creating if needed) the ledger file; throws std::runtime_error on SQLite errors.
+    explicit Ledger(const std::filesystem::path& file);
+    ~Ledger();
+    Ledger(const Ledger&) = delete;
+    Ledger& operator=(const Ledger&) = delete;
+
+    // Creates the campaign and queues its points in one transaction; throws if it exists.
+    void createCampaign(const CampaignInfo& info, const std::vector<nlohmann::json>& points);
+    // Appends points (a design extension) after the existing ones, queued.
+    void addPoints(const std::string& campaign, const std::vector<nlohmann::json>& points);
+    std::optional<CampaignInfo> campaign(const std::string& name) const;
+
+    // Atomically takes the next run to do: a queued run, or (recover = true) one left "running" by
+    // a driver that died; marks it running, counts the attempt. Runs with attempts >= maxAttempts
+    // are not taken.
+    std::optional<LedgerRun> claimNext(const std::string& campaign, int maxAttempts, bool recover);
+    void markDone(long id, const nlohmann::json& result, double wall, double core,
+                  const std::string& runDir);
+    // failed = true ends the run; false puts it back in the queue for another attempt.
+    void markFailed(long id, const std::string& error, bool failed);
+    // Puts runs marked running back in the queue (a fresh driver after a crash).
+    int requeueRunning(const std::string& campaign);
+
+    std::vector<LedgerRun> runs(const std::string& campaign) const;
+    // Counts by status.
+    nlohmann::json status(const std::string& campaign) const;
+    // PRAGMA integrity_check == "ok".
+    bool integrityOk() const;
+
+private:
+    void exec(const std::string& sql) const;
+    sqlite3* db_ = nullptr;
+};
+
+}  // namespace mixload::experiments
