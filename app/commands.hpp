@@ -11,5 +11,6 @@ void addInfo(CLI::App& app, Action& action);
 void addCollapse(CLI::App& app, Action& action);
 void addBench(CLI::App& app, Action& action);
 void addStudy(CLI::App& app, Action& action);
+void addCampaign(CLI::App& app, Action& action);
 void addMixer(CLI::App& app, Action& action);
 }  // namespace mixload::app

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
     mixload::app::addMixer(app, action);
     mixload::app::addBench(app, action);
     mixload::app::addStudy(app, action);
+    mixload::app::addCampaign(app, action);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -1,0 +1,247 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// `mixload campaign`: offline full-CFD campaigns over a design of experiments, recorded in a
+// SQLite ledger under <dir>/<name>/ledger.sqlite.
+#include <iostream>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "app/collapse_options.hpp"
+#include "app/commands.hpp"
+#include "app/mixer_options.hpp"
+#include "campaign/ledger.hpp"
+#include "common/atomic_file.hpp"
+#include "common/input_error.hpp"
+#include "doe/designs.hpp"
+#include "doe/parameter_space.hpp"
+#include "mixload_version.hpp"
+
+namespace mixload::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CampaignCmd {
+    std::string name, ranges, design = "lhs", scene, method = "mrf", mesh, dir = "runs/campaigns",
+                output;
+    int n = 0;
+    long long seed = 1;
+    bool json = false;
+};
+
+fs::path ledgerPath(const CampaignCmd& o) { return fs::path(o.dir) / o.name / "ledger.sqlite"; }
+
+void checkName(const std::string& name) {
+    if (!std::regex_match(name, std::regex("[A-Za-z0-9_.-]{1,64}")))
+        throw InputError("name", name, "1-64 letters, digits, '_', '-' or '.'");
+}
+
+// The base inputs of a campaign, as stored in the ledger; every point applies its params on top.
+nlohmann::json baseOf(const CampaignCmd& o, const std::string& kind) {
+    if (kind == "mixer")
+        return {{"kind", kind}, {"scene", o.scene.empty() ? "gcm250" : o.scene}, {"method", o.method},
+                {"mesh", o.mesh.empty() ? "coarse" : o.mesh}};
+    return {{"kind", kind}, {"material", o.scene.empty() ? "quartz" : o.scene},
+            {"cells_per_length", o.mesh.empty() ? 30 : std::stoi(o.mesh)}};
+}
+
+double param(const nlohmann::json& p, const char* k) { return p.at(k).get<double>(); }
+
+// Builds (and validates) the scene of one design point. Returns its hash.
+std::string sceneHashFor(const nlohmann::json& base, const nlohmann::json& p) {
+    if (base["kind"] == "mixer") {
+        MixerOptions m;
+        m.scene = base["scene"];
+        m.method = base["method"].get<std::string>();
+        m.mesh = base["mesh"].get<std::string>();
+        const double muS0 = m.build().material.muS;
+        if (p.contains("mu_s")) m.muS = param(p, "mu_s");
+        if (p.contains("delta_mu")) m.muD = m.muS.value_or(muS0) + param(p, "delta_mu");
+        if (p.contains("i0")) m.I0 = param(p, "i0");
+        if (p.contains("d")) m.d = param(p, "d");
+        if (p.contains("rho")) m.rho = param(p, "rho");
+        if (p.contains("feed_kg_h")) m.feedKgH = param(p, "feed_kg_h");
+        if (p.contains("rpm")) m.rpm = param(p, "rpm");
+        return m.build().hash();
+    }
+    CollapseOptions c;
+    c.material = base["material"];
+    c.cellsPerLength = base["cells_per_length"];
+    const double muS0 = c.scene().material.muS;
+    if (p.contains("mu_s")) c.muS = param(p, "mu_s");
+    if (p.contains("delta_mu")) c.muD = c.muS.value_or(muS0) + param(p, "delta_mu");
+    if (p.contains("i0")) c.I0 = param(p, "i0");
+    if (p.contains("aspect")) c.aspect = param(p, "aspect");
+    return c.scene().hash();
+}
+
+int create(const CampaignCmd& o) {
+    checkName(o.name);
+    requireRange("n", o.n, 1, 100000);
+    if (o.design != "lhs" && o.design != "sobol") throw InputError("design", o.design, "lhs|sobol");
+    if (fs::exists(ledgerPath(o)))
+        throw InputError("name", o.name, "a new campaign (" + ledgerPath(o).string() + " exists)");
+    const auto space = experiments::loadRanges(o.ranges);
+    if (!o.mesh.empty() && space.scene == "collapse" && !std::regex_match(o.mesh, std::regex("[0-9]{1,3}")))
+        throw InputError("mesh", o.mesh, "cells per column length (e.g. 30) for a collapse campaign");
+    const nlohmann::json base = baseOf(o, space.scene);
+    const auto unit = o.design == "lhs"
+                          ? experiments::latinHypercube(o.n, static_cast<int>(space.params.size()),
+                                                        static_cast<std::uint64_t>(o.seed))
+                          : experiments::sobol(o.n, static_cast<int>(space.params.size()));
+    // Every point becomes a validated scene before the ledger exists: bad input leaves nothing.
+    std::vector<nlohmann::json> points;
+    for (const auto& u : unit) {
+        const auto x = space.toPhysical(u);
+        nlohmann::json p;
+        for (size_t j = 0; j < x.size(); ++j) p[space.params[j].name] = x[j];
+        p["scene_hash"] = sceneHashFor(base, p);
+        points.push_back(p);
+    }
+    experiments::CampaignInfo info;
+    info.name = o.name;
+    info.scene = space.scene;
+    info.sceneJson = base;
+    info.sceneHash = sceneHashFor(base, nlohmann::json::object());
+    info.rangesToml = readFile(o.ranges);
+    info.design = o.design;
+    info.seed = static_cast<std::uint64_t>(o.seed);
+    info.method = space.scene == "mixer" ? o.method : "";
+    info.mesh = base.contains("mesh") ? base["mesh"].get<std::string>()
+                                      : std::to_string(base["cells_per_length"].get<int>());
+    info.mixloadVersion = kVersion;
+    info.gitCommit = kGitCommit;
+    experiments::Ledger ledger(ledgerPath(o));
+    ledger.createCampaign(info, points);
+    const nlohmann::json out{{"campaign", o.name}, {"ledger", ledgerPath(o).string()},
+                             {"scene", space.scene}, {"design", o.design}, {"points", points.size()},
+                             {"parameters", [&] {
+                                  nlohmann::json a = nlohmann::json::array();
+                                  for (const auto& p : space.params)
+                                      a.push_back({{"name", p.name}, {"unit", p.unit}, {"min", p.min}, {"max", p.max}});
+                                  return a;
+                              }()}};
+    if (o.json) std::cout << out.dump(2) << '\n';
+    else
+        std::cout << "campaign " << o.name << ": " << points.size() << " " << space.scene << " points ("
+                  << o.design << "), ledger " << ledgerPath(o).string() << '\n';
+    return 0;
+}
+
+experiments::CampaignInfo openCampaign(const CampaignCmd& o, std::unique_ptr<experiments::Ledger>& l) {
+    checkName(o.name);
+    if (!fs::exists(ledgerPath(o)))
+        throw InputError("name", o.name, "an existing campaign (no " + ledgerPath(o).string() + ")");
+    l = std::make_unique<experiments::Ledger>(ledgerPath(o));
+    auto c = l->campaign(o.name);
+    if (!c) throw InputError("name", o.name, "a campaign recorded in " + ledgerPath(o).string());
+    return *c;
+}
+
+int status(const CampaignCmd& o) {
+    std::unique_ptr<experiments::Ledger> l;
+    const auto c = openCampaign(o, l);
+    const auto runs = l->runs(o.name);
+    double wall = 0, core = 0;
+    for (const auto& r : runs) wall += r.wallSeconds.value_or(0), core += r.coreSeconds.value_or(0);
+    nlohmann::json out{{"campaign", o.name}, {"scene", c.scene}, {"design", c.design},
+                       {"points", runs.size()}, {"counts", l->status(o.name)},
+                       {"wall_seconds_done", wall}, {"core_seconds_done", core},
+                       {"integrity_ok", l->integrityOk()}, {"created", c.created},
+                       {"mixload_version", c.mixloadVersion}, {"git_commit", c.gitCommit}};
+    if (o.json) {
+        std::cout << out.dump(2) << '\n';
+        return 0;
+    }
+    const auto& n = out["counts"];
+    std::cout << "campaign " << o.name << " (" << c.scene << ", " << c.design << ", " << runs.size()
+              << " points): " << n["done"] << " done, " << n["running"] << " running, " << n["queued"]
+              << " queued, " << n["failed"] << " failed; " << core << " core-seconds so far\n";
+    return 0;
+}
+
+std::string csvField(const nlohmann::json& v) {
+    if (v.is_null()) return "";
+    if (v.is_string()) {
+        std::string s = v.get<std::string>();
+        if (s.find_first_of(",\"\n") == std::string::npos) return s;
+        std::string q = "\"";
+        for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+        return q + "\"";
+    }
+    return v.dump();
+}
+
+int exportCsv(const CampaignCmd& o) {
+    if (o.output.empty()) throw InputError("output", "(missing)", "-o FILE.csv");
+    std::unique_ptr<experiments::Ledger> l;
+    const auto c = openCampaign(o, l);
+    const auto runs = l->runs(o.name);
+    std::set<std::string> params, qois;
+    for (const auto& r : runs) {
+        for (const auto& [k, _] : r.params.items()) params.insert(k);
+        if (r.result.is_object())
+            for (const auto& [k, v] : r.result.items())
+                if (v.is_number() || v.is_boolean() || v.is_null()) qois.insert(k);
+    }
+    std::ostringstream os;
+    os << "# campaign " << o.name << ", scene " << c.scene << ", design " << c.design << ", seed "
+       << c.seed << ", base " << c.sceneJson.dump() << ", created " << c.created << " by mixload "
+       << c.mixloadVersion << " (" << c.gitCommit << ")\n";
+    os << "index";
+    for (const auto& p : params) os << ',' << p;
+    os << ",status,attempts,wall_seconds,core_seconds";
+    for (const auto& q : qois) os << ',' << q;
+    os << ",run_dir,error\n";
+    for (const auto& r : runs) {
+        os << r.index;
+        for (const auto& p : params) os << ',' << csvField(r.params.value(p, nlohmann::json()));
+        os << ',' << r.status << ',' << r.attempts << ','
+           << (r.wallSeconds ? std::to_string(*r.wallSeconds) : "") << ','
+           << (r.coreSeconds ? std::to_string(*r.coreSeconds) : "");
+        for (const auto& q : qois)
+            os << ',' << csvField(r.result.is_object() ? r.result.value(q, nlohmann::json()) : nlohmann::json());
+        os << ',' << csvField(r.runDir) << ',' << csvField(r.error) << '\n';
+    }
+    writeFileAtomic(o.output, os.str());
+    if (o.json) std::cout << nlohmann::json{{"csv", o.output}, {"rows", runs.size()}}.dump(2) << '\n';
+    else std::cout << runs.size() << " rows written to " << o.output << '\n';
+    return 0;
+}
+
+}  // namespace
+
+void addCampaign(CLI::App& app, Action& action) {
+    auto* camp = app.add_subcommand("campaign", "Offline full-CFD campaigns over a design of experiments (SQLite ledger)");
+    camp->require_subcommand(1);
+    auto o = std::make_shared<CampaignCmd>();
+
+    auto* cr = camp->add_subcommand("create", "Create a campaign: sample the ranges, queue every point in a new ledger");
+    cr->add_option("name", o->name, "Campaign name")->required();
+    cr->add_option("--ranges", o->ranges, "Ranges file (TOML: scene = mixer|collapse, one table per parameter with min, max, unit)")->required();
+    cr->add_option("--design", o->design, "lhs (maximin Latin hypercube) | sobol")->capture_default_str();
+    cr->add_option("--n", o->n, "Number of points")->required();
+    cr->add_option("--seed", o->seed, "Seed of the Latin hypercube")->capture_default_str();
+    cr->add_option("--scene", o->scene, "Mixer: scene name or file (default gcm250); collapse: material (default quartz)");
+    cr->add_option("--method", o->method, "Mixer method: mrf | lts | sm")->capture_default_str();
+    cr->add_option("--mesh", o->mesh, "Mixer: coarse | medium | fine (default coarse); collapse: cells per column length (default 30)");
+    cr->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
+    cr->add_flag("--json", o->json, "Print JSON");
+    cr->callback([&action, o] { action = [o] { return create(*o); }; });
+
+    auto* st = camp->add_subcommand("status", "Counts of queued, running, done and failed runs");
+    st->add_option("name", o->name, "Campaign name")->required();
+    st->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
+    st->add_flag("--json", o->json, "Print JSON");
+    st->callback([&action, o] { action = [o] { return status(*o); }; });
+
+    auto* ex = camp->add_subcommand("export", "Write every run (inputs, status, timings, results) as CSV");
+    ex->add_option("name", o->name, "Campaign name")->required();
+    ex->add_option("-o,--output", o->output, "CSV file (written to a temp name, then renamed)")->required();
+    ex->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
+    ex->add_flag("--json", o->json, "Print JSON");
+    ex->callback([&action, o] { action = [o] { return exportCsv(*o); }; });
+}
+
+}  // namespace mixload::app
