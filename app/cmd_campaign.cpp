@@ -1,8 +1,16 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // `mixload campaign`: offline full-CFD campaigns over a design of experiments, recorded in a
 // SQLite ledger under <dir>/<name>/ledger.sqlite.
+#include <sys/file.h>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
 #include <iostream>
+#include <mutex>
 #include <regex>
+#include <thread>
 #include <set>
 #include <sstream>
 
@@ -12,9 +20,14 @@
 #include "campaign/ledger.hpp"
 #include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
+#include "common/process.hpp"
+#include "common/progress.hpp"
 #include "doe/designs.hpp"
 #include "doe/parameter_space.hpp"
 #include "mixload_version.hpp"
+#include "run/collapse_job.hpp"
+#include "run/foam_runner.hpp"
+#include "run/mixer_job.hpp"
 
 namespace mixload::app {
 
@@ -27,6 +40,8 @@ struct CampaignCmd {
                 output;
     int n = 0;
     long long seed = 1;
+    int jobs = 1, np = 1;
+    double maxHours = 0;
     bool json = false;
 };
 
@@ -48,23 +63,24 @@ nlohmann::json baseOf(const CampaignCmd& o, const std::string& kind) {
 
 double param(const nlohmann::json& p, const char* k) { return p.at(k).get<double>(); }
 
-// Builds (and validates) the scene of one design point. Returns its hash.
-std::string sceneHashFor(const nlohmann::json& base, const nlohmann::json& p) {
-    if (base["kind"] == "mixer") {
-        MixerOptions m;
-        m.scene = base["scene"];
-        m.method = base["method"].get<std::string>();
-        m.mesh = base["mesh"].get<std::string>();
-        const double muS0 = m.build().material.muS;
-        if (p.contains("mu_s")) m.muS = param(p, "mu_s");
-        if (p.contains("delta_mu")) m.muD = m.muS.value_or(muS0) + param(p, "delta_mu");
-        if (p.contains("i0")) m.I0 = param(p, "i0");
-        if (p.contains("d")) m.d = param(p, "d");
-        if (p.contains("rho")) m.rho = param(p, "rho");
-        if (p.contains("feed_kg_h")) m.feedKgH = param(p, "feed_kg_h");
-        if (p.contains("rpm")) m.rpm = param(p, "rpm");
-        return m.build().hash();
-    }
+// The scene of one design point (validated); mu_d = mu_s + delta_mu.
+scene::MixerScene mixerSceneFor(const nlohmann::json& base, const nlohmann::json& p) {
+    MixerOptions m;
+    m.scene = base["scene"];
+    m.method = base["method"].get<std::string>();
+    m.mesh = base["mesh"].get<std::string>();
+    const double muS0 = m.build().material.muS;
+    if (p.contains("mu_s")) m.muS = param(p, "mu_s");
+    if (p.contains("delta_mu")) m.muD = m.muS.value_or(muS0) + param(p, "delta_mu");
+    if (p.contains("i0")) m.I0 = param(p, "i0");
+    if (p.contains("d")) m.d = param(p, "d");
+    if (p.contains("rho")) m.rho = param(p, "rho");
+    if (p.contains("feed_kg_h")) m.feedKgH = param(p, "feed_kg_h");
+    if (p.contains("rpm")) m.rpm = param(p, "rpm");
+    return m.build();
+}
+
+scene::CollapseScene collapseSceneFor(const nlohmann::json& base, const nlohmann::json& p) {
     CollapseOptions c;
     c.material = base["material"];
     c.cellsPerLength = base["cells_per_length"];
@@ -73,7 +89,11 @@ std::string sceneHashFor(const nlohmann::json& base, const nlohmann::json& p) {
     if (p.contains("delta_mu")) c.muD = c.muS.value_or(muS0) + param(p, "delta_mu");
     if (p.contains("i0")) c.I0 = param(p, "i0");
     if (p.contains("aspect")) c.aspect = param(p, "aspect");
-    return c.scene().hash();
+    return c.scene();
+}
+
+std::string sceneHashFor(const nlohmann::json& base, const nlohmann::json& p) {
+    return base["kind"] == "mixer" ? mixerSceneFor(base, p).hash() : collapseSceneFor(base, p).hash();
 }
 
 int create(const CampaignCmd& o) {
@@ -210,6 +230,124 @@ int exportCsv(const CampaignCmd& o) {
     return 0;
 }
 
+// What a campaign keeps of a finished run (the full record stays in its run directory).
+nlohmann::json qoisOf(const std::string& kind, const nlohmann::json& r) {
+    const std::vector<const char*> keys =
+        kind == "mixer" ? std::vector<const char*>{"loading_kg", "loading_std_kg", "steady", "steady_time_s",
+                                                   "outflow_kg_h", "powder_leak_kg_h", "powder_balance_ok",
+                                                   "final_loading_kg", "end_time_s", "cells"}
+                        : std::vector<const char*>{"runout_star", "height_star", "stopped_by", "t_star",
+                                                   "end_time", "powder_mass_error", "cells"};
+    nlohmann::json q = nlohmann::json::object();
+    for (const char* k : keys)
+        if (r.contains(k)) q[k] = r[k];
+    return q;
+}
+
+// One driver per campaign: an advisory lock that the kernel drops when the driver dies, however.
+class DriverLock {
+public:
+    explicit DriverLock(const fs::path& file) {
+        fd_ = ::open(file.c_str(), O_CREAT | O_RDWR, 0644);
+        if (fd_ < 0 || ::flock(fd_, LOCK_EX | LOCK_NB) != 0)
+            throw run::RunError("another `mixload campaign run` holds " + file.string());
+    }
+    ~DriverLock() {
+        if (fd_ >= 0) ::close(fd_);
+    }
+
+private:
+    int fd_ = -1;
+};
+
+int runCampaign(const CampaignCmd& o) {
+    requireRange("jobs", o.jobs, 1, 64);
+    requireRange("np", o.np, 1, 256);
+    requireRange("max-hours", o.maxHours, 0, 1e5);
+    std::unique_ptr<experiments::Ledger> ledger;
+    const auto c = openCampaign(o, ledger);
+    const fs::path home = fs::path(o.dir) / o.name;
+    DriverLock lock(home / "driver.lock");
+    // Whatever a previous driver left running died with it (its solvers die with their parent).
+    const int recovered = ledger->requeueRunning(o.name);
+    const auto start = std::chrono::steady_clock::now();
+    std::optional<std::chrono::steady_clock::time_point> deadline;
+    if (o.maxHours > 0)
+        deadline = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                               std::chrono::duration<double>(o.maxHours * 3600.0));
+    const auto total = ledger->runs(o.name).size();
+    const nlohmann::json before = ledger->status(o.name);
+    std::atomic<size_t> finished{before["done"].get<size_t>() + before["failed"].get<size_t>()};
+    std::atomic<bool> stopped{false};
+    std::mutex m;
+    Progress bar("campaign " + o.name, !o.json);
+    bar.update(double(finished) / total, std::to_string(finished.load()) + "/" + std::to_string(total));
+    const auto worker = [&] {
+        experiments::Ledger l(home / "ledger.sqlite");
+        for (;;) {
+            if (deadline && std::chrono::steady_clock::now() >= *deadline) {
+                stopped = true;
+                return;
+            }
+            const auto r = l.claimNext(o.name, 2, false);
+            if (!r) return;
+            // A second attempt runs with half the Courant limit: the usual cure for a diverged run.
+            const bool retry = r->attempts > 1;
+            try {
+                nlohmann::json res;
+                std::string dir;
+                if (c.scene == "mixer") {
+                    auto s = mixerSceneFor(c.sceneJson, r->params);
+                    if (retry) s.maxCourant *= 0.5;
+                    run::MixerJob job;
+                    job.scene = s;
+                    job.np = o.np;
+                    job.out = home / "runs" / (std::to_string(r->index) + "-" + s.hash());
+                    job.deadline = deadline;
+                    res = run::runMixer(job);
+                } else {
+                    auto s = collapseSceneFor(c.sceneJson, r->params);
+                    if (retry) s.maxCourant *= 0.5;
+                    run::CollapseJob job;
+                    job.scene = s;
+                    job.np = o.np;
+                    job.out = home / "runs" / (std::to_string(r->index) + "-" + s.hash());
+                    job.deadline = deadline;
+                    res = run::runCollapse(job);
+                }
+                l.markDone(r->id, qoisOf(c.scene, res), res.value("wall_seconds", 0.0),
+                           res.value("core_seconds", res.value("wall_seconds", 0.0) * o.np),
+                           res.value("run_dir", std::string()));
+            } catch (const DeadlineReached&) {
+                l.release(r->id);  // resumes in the next slice
+                stopped = true;
+                return;
+            } catch (const std::exception& e) {
+                l.markFailed(r->id, e.what(), /*failed=*/r->attempts >= 2);
+                if (r->attempts < 2) continue;
+            }
+            std::lock_guard<std::mutex> g(m);
+            ++finished;
+            bar.update(double(finished) / total,
+                       std::to_string(finished.load()) + "/" + std::to_string(total) + " runs");
+        }
+    };
+    std::vector<std::thread> pool;
+    for (int j = 0; j < o.jobs; ++j) pool.emplace_back(worker);
+    for (auto& t : pool) t.join();
+    bar.finish();
+    const nlohmann::json counts = ledger->status(o.name);
+    const nlohmann::json out{{"campaign", o.name}, {"counts", counts}, {"recovered", recovered},
+                             {"stopped_at_max_hours", stopped.load()},
+                             {"wall_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
+    if (o.json) std::cout << out.dump(2) << '\n';
+    else
+        std::cout << "campaign " << o.name << ": " << counts["done"] << " done, " << counts["failed"]
+                  << " failed, " << counts["queued"] << " queued"
+                  << (stopped ? " (stopped at --max-hours; run again to continue)" : "") << '\n';
+    return counts["failed"].get<int>() > 0 ? 1 : 0;
+}
+
 }  // namespace
 
 void addCampaign(CLI::App& app, Action& action) {
@@ -229,6 +367,15 @@ void addCampaign(CLI::App& app, Action& action) {
     cr->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
     cr->add_flag("--json", o->json, "Print JSON");
     cr->callback([&action, o] { action = [o] { return create(*o); }; });
+
+    auto* rn = camp->add_subcommand("run", "Run (or continue) a campaign: J runs at a time, resumable after any interruption");
+    rn->add_option("name", o->name, "Campaign name")->required();
+    rn->add_option("--jobs", o->jobs, "Concurrent runs")->capture_default_str();
+    rn->add_option("--np", o->np, "MPI ranks per run")->capture_default_str();
+    rn->add_option("--max-hours", o->maxHours, "Stop cleanly after this many hours (0: no limit); unfinished runs resume next time");
+    rn->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
+    rn->add_flag("--json", o->json, "Print JSON");
+    rn->callback([&action, o] { action = [o] { return runCampaign(*o); }; });
 
     auto* st = camp->add_subcommand("status", "Counts of queued, running, done and failed runs");
     st->add_option("name", o->name, "Campaign name")->required();

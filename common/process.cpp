@@ -1,9 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "common/process.hpp"
 
+#include <poll.h>
+#include <sys/prctl.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <deque>
@@ -19,6 +23,10 @@ int runProcess(const ProcessSpec& spec) {
     const pid_t pid = ::fork();
     if (pid < 0) throw std::runtime_error("fork failed");
     if (pid == 0) {
+        // The child dies with its parent: a driver killed with SIGKILL must not leave a solver
+        // writing into a case that the next driver will resume.
+        ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+        if (::getppid() == 1) _exit(127);
         ::close(fds[0]);
         ::dup2(fds[1], STDOUT_FILENO);
         ::dup2(fds[1], STDERR_FILENO);
@@ -41,7 +49,20 @@ int runProcess(const ProcessSpec& spec) {
     if (!spec.log.empty()) log.open(spec.log, std::ios::app);
     std::string pending;
     char buf[8192];
+    bool stopped = false;
     for (;;) {
+        if (spec.deadline && !stopped) {
+            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+                *spec.deadline - std::chrono::steady_clock::now());
+            pollfd pfd{fds[0], POLLIN, 0};
+            if (left.count() <= 0 || ::poll(&pfd, 1, static_cast<int>(std::min<long long>(left.count(), 1000))) == 0) {
+                if (std::chrono::steady_clock::now() >= *spec.deadline) {
+                    ::kill(pid, SIGTERM);
+                    stopped = true;
+                }
+                continue;
+            }
+        }
         const ssize_t n = ::read(fds[0], buf, sizeof buf);
         if (n <= 0) break;
         if (log) log.write(buf, n);
@@ -56,6 +77,7 @@ int runProcess(const ProcessSpec& spec) {
     ::close(fds[0]);
     int status = 0;
     ::waitpid(pid, &status, 0);
+    if (stopped) throw DeadlineReached(spec.argv.front() + " stopped at the deadline");
     if (WIFEXITED(status)) return WEXITSTATUS(status);
     if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
     return 1;

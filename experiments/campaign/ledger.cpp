@@ -250,9 +250,19 @@ void Ledger::markFailed(long id, const std::string& error, bool failed) {
     tx.commit();
 }
 
+void Ledger::release(long id) {
+    Transaction tx(db_);
+    Stmt u(db_, "UPDATE runs SET status = 'queued', attempts = MAX(attempts - 1, 0) WHERE id = ?");
+    u.bind(1, static_cast<long long>(id));
+    u.step();
+    tx.commit();
+}
+
 int Ledger::requeueRunning(const std::string& campaign) {
     Transaction tx(db_);
-    Stmt u(db_, "UPDATE runs SET status = 'queued' WHERE campaign = ? AND status = 'running'");
+    // The interrupted attempt does not count: the run resumes in its own directory.
+    Stmt u(db_, "UPDATE runs SET status = 'queued', attempts = MAX(attempts - 1, 0)"
+                " WHERE campaign = ? AND status = 'running'");
     u.bind(1, campaign);
     u.step();
     const int n = sqlite3_changes(db_);

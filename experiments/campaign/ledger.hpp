@@ -56,7 +56,10 @@ public:
                   const std::string& runDir);
     // failed = true ends the run; false puts it back in the queue for another attempt.
     void markFailed(long id, const std::string& error, bool failed);
-    // Puts runs marked running back in the queue (a fresh driver after a crash).
+    // Gives a run back to the queue without counting the attempt (stopped by a deadline).
+    void release(long id);
+    // Puts runs marked running back in the queue without counting their interrupted attempt (a
+    // fresh driver after a crash).
     int requeueRunning(const std::string& campaign);
 
     std::vector<LedgerRun> runs(const std::string& campaign) const;

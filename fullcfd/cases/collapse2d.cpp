@@ -79,7 +79,8 @@ std::string controlDict(const scene::CollapseScene& s, const std::string& libs) 
        << "writeControl adjustable;\nwriteInterval " << num(0.25 * tStar) << ";\n"
        << "purgeWrite 0;\nwriteFormat ascii;\nwritePrecision 8;\nwriteCompression off;\n"
        << "timeFormat general;\ntimePrecision 8;\nrunTimeModifiable yes;\n"
-       << "adjustTimeStep yes;\nmaxCo 0.3;\nmaxAlphaCo 0.3;\nmaxDeltaT " << num(0.01 * tStar)
+       << "adjustTimeStep yes;\nmaxCo " << num(s.maxCourant) << ";\nmaxAlphaCo "
+       << num(s.maxCourant) << ";\nmaxDeltaT " << num(0.01 * tStar)
        << ";\n\nfunctions\n{\n    " << kCollapseMonitor << "\n    {\n"
        << "        type collapseMonitor;\n"
        << "        alpha alpha.powder;\n"

@@ -42,6 +42,7 @@ nlohmann::json runCollapse(const CollapseJob& job) {
     r.np = job.np;
     r.endTime = s.capTstar * s.tStar();
     r.progress = job.progress;
+    r.deadline = job.deadline;
     r.label = "collapse a=" + formatNumber(s.aspect);
     const double solverWall = runSolver(r);
 

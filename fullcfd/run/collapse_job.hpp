@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
+#include <chrono>
 #include <filesystem>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -14,6 +16,8 @@ struct CollapseJob {
     std::filesystem::path out;  // empty: runs/collapse-<hash>[-np<N>]
     bool progress = false;
     bool reuse = true;          // return a finished run's result instead of running again
+    // Campaigns stop long runs here; they resume later from their last written time.
+    std::optional<std::chrono::steady_clock::time_point> deadline;
 };
 
 // Runs (or resumes, or reuses) a collapse and returns its result record, which is also written to

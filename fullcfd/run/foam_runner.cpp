@@ -29,8 +29,10 @@ std::vector<std::pair<std::string, std::string>> foamEnvironment() {
 namespace {
 
 int run(const fs::path& caseDir, const std::vector<std::string>& argv, const std::string& logName,
-        const std::function<void(const std::string&)>& onLine = {}) {
+        const std::function<void(const std::string&)>& onLine = {},
+        std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt) {
     ProcessSpec spec;
+    spec.deadline = deadline;
     spec.argv = argv;
     spec.cwd = caseDir;
     spec.log = caseDir / logName;
@@ -88,13 +90,14 @@ double runSolver(const SolverRun& r) {
                                  : fs::path(r.solver).filename().string();
     const std::string logName = "log." + name;
     if (r.np <= 1) {
-        check(run(r.caseDir, {r.solver}, logName, onLine), r.caseDir, name, logName);
+        check(run(r.caseDir, {r.solver}, logName, onLine, r.deadline), r.caseDir, name, logName);
     } else {
         if (!fs::exists(r.caseDir / "processor0")) {
             runUtility(r.caseDir, {"decomposePar", "-force"});
         }
         check(run(r.caseDir,
-                  {"mpirun", "-np", std::to_string(r.np), r.solver, "-parallel"}, logName, onLine),
+                  {"mpirun", "-np", std::to_string(r.np), r.solver, "-parallel"}, logName, onLine,
+                  r.deadline),
               r.caseDir, "mpirun " + name, logName);
         runUtility(r.caseDir, {"reconstructPar", "-newTimes"});
     }

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
+#include <chrono>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -31,6 +33,8 @@ struct SolverRun {
     double endTime = 1.0;   // for progress only
     bool progress = false;  // show percentage/ETA on a terminal
     std::string label = "run";
+    // Stop the solver here (DeadlineReached); the case resumes from its last written time.
+    std::optional<std::chrono::steady_clock::time_point> deadline;
 };
 
 // Runs the solver to completion (serial, or decomposePar + mpirun + reconstructPar). Resumes from

@@ -55,6 +55,7 @@ nlohmann::json runMixer(const MixerJob& job) {
     r.np = job.np;
     r.endTime = s.method == "lts" ? s.ltsIterations : s.endTime;
     r.progress = job.progress;
+    r.deadline = job.deadline;
     r.label = "mixer " + s.method;
     const double solverWall = runSolver(r);
 

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
+#include <chrono>
 #include <filesystem>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -14,6 +16,8 @@ struct MixerJob {
     std::filesystem::path out;  // empty: runs/mixer-<hash>[-np<N>]
     bool progress = false;
     bool reuse = true;          // return a finished run's result instead of running again
+    // Campaigns stop long runs here; they resume later from their last written time.
+    std::optional<std::chrono::steady_clock::time_point> deadline;
 };
 
 // Meshes, runs (or resumes, or reuses) a mixer run and returns its result record, also written to

@@ -25,6 +25,7 @@ void CollapseScene::validate() const {
     requireRange("rest-fraction", restFraction, 0.0, 0.5, false, true);
     requireRange("rest-time", restTimeTstar, 0.0, 10.0, false, true);
     requireRange("cap", capTstar, 1.0, 200.0);
+    requireRange("max-courant", maxCourant, 0.01, 5.0);
     if (cells() > 5'000'000)
         throw InputError("cells-per-length", std::to_string(cellsPerLength),
                          "a mesh of at most 5e6 cells (this one has " + std::to_string(cells()) + ")");
@@ -54,7 +55,7 @@ int CollapseScene::ny() const {
 }
 
 nlohmann::json CollapseScene::toJson() const {
-    return {{"scene", "collapse2d"},
+    nlohmann::json j{{"scene", "collapse2d"},
             {"material", material.toJson()},
             {"aspect", aspect},
             {"length_m", length},
@@ -67,6 +68,9 @@ nlohmann::json CollapseScene::toJson() const {
             {"rest_fraction", restFraction},
             {"rest_time_tstar", restTimeTstar},
             {"cap_tstar", capTstar}};
+    // Only a non-default limit enters the record, so hashes of existing runs stay valid.
+    if (maxCourant != CollapseScene{}.maxCourant) j["max_courant"] = maxCourant;
+    return j;
 }
 
 std::string CollapseScene::hash() const { return stableHash(toJson().dump()); }

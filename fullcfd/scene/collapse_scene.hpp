@@ -25,6 +25,7 @@ struct CollapseScene {
     double restFraction = 0.01;   // rest: KE < restFraction * peak KE ...
     double restTimeTstar = 0.5;   // ... for this long (in t*)
     double capTstar = 15.0;       // end time cap (in t*)
+    double maxCourant = 0.3;      // flow and interface Courant limit (campaign retries halve it)
 
     void validate() const;
 

@@ -77,6 +77,7 @@ void MixerScene::setMesh(const std::string& level) {
 
 void MixerScene::validate() const {
     geometry.validate();
+    requireRange("max-courant", maxCourant, 0.01, 5.0);
     material.validate();
     if (convention != "standard" && convention != "paper")
         throw InputError("convention", convention, "standard|paper");
@@ -126,7 +127,7 @@ double MixerScene::steadyWindow() const {
 
 nlohmann::json MixerScene::toJson() const {
     const auto& g = geometry;
-    return {{"scene", "mixer3d"},
+    nlohmann::json j{{"scene", "mixer3d"},
             {"name", name},
             {"geometry",
              {{"length_m", g.length},
@@ -162,6 +163,9 @@ nlohmann::json MixerScene::toJson() const {
             {"steady_flow_tol", steadyFlowTol},
             {"min_time_s", minTime},
             {"gravity_m_s2", gravity}};
+    // Only a non-default limit enters the record, so hashes of existing runs stay valid.
+    if (maxCourant != MixerScene{}.maxCourant) j["max_courant"] = maxCourant;
+    return j;
 }
 
 std::string MixerScene::hash() const { return stableHash(toJson().dump()); }

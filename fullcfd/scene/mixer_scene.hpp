@@ -67,6 +67,7 @@ struct MixerScene {
     double steadyFlowTol = 0.10;   // ... and mean outflow within this fraction of the feed
     double minTime = 0;            // no steady verdict before this time [s]
     double gravity = 9.81;
+    double maxCourant = 1.0;       // flow and interface Courant limit (campaign retries halve it)
 
     void validate() const;
     void setMesh(const std::string& level);  // coarse | medium | fine

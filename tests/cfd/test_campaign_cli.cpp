@@ -1,10 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// `mixload campaign create | status | export` through the real executable (no solver runs), and
-// bad ranges files: exit 2, one line naming the problem, no campaign left behind.
+// `mixload campaign create | run | status | export` through the real executable: a real collapse
+// campaign whose driver is killed with SIGKILL mid-run and then finishes every run exactly once,
+// and bad ranges files (exit 2, one line naming the problem, no campaign left behind).
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <fstream>
 #include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -83,4 +87,66 @@ TEST(CampaignCli, BadRangesCreateNothing) {
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
         EXPECT_FALSE(fs::exists(dir / name)) << "campaign directory left behind";
     }
+}
+
+namespace {
+// Processes whose working directory lies under dir (solvers of a killed driver would show here).
+std::vector<std::string> processesIn(const fs::path& dir) {
+    std::vector<std::string> found;
+    for (const auto& e : fs::directory_iterator("/proc")) {
+        const std::string pid = e.path().filename().string();
+        if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
+        std::error_code ec;
+        const auto cwd = fs::read_symlink(e.path() / "cwd", ec);
+        if (!ec && cwd.string().rfind(dir.string(), 0) == 0) found.push_back(pid + " " + cwd.string());
+    }
+    return found;
+}
+}  // namespace
+
+TEST(CampaignCli, DriverKilledWithSigkillFinishesEveryRunOnce) {
+    const fs::path dir = fs::canonical(scratchDir("campaign-kill"));
+    const auto ranges = rangesFile(dir, "r", "scene = \"collapse\"\n[aspect]\nmin = 1\nmax = 3\nunit = \"1\"\n");
+    auto r = runMixload({"campaign", "create", "k", "--ranges", ranges.string(), "--n", "3", "--mesh",
+                         "10", "--dir", dir.string()});
+    ASSERT_EQ(r.rc, 0) << r.err;
+
+    const pid_t driver = fork();
+    ASSERT_GE(driver, 0);
+    if (driver == 0) {
+        freopen("/dev/null", "w", stdout);
+        freopen("/dev/null", "w", stderr);
+        execl(MIXLOAD_EXE, MIXLOAD_EXE, "campaign", "run", "k", "--dir", dir.c_str(), nullptr);
+        _exit(127);
+    }
+    sleep(4);  // the first run is meshing or solving
+    kill(driver, SIGKILL);
+    int st = 0;
+    waitpid(driver, &st, 0);
+    ASSERT_TRUE(WIFSIGNALED(st)) << "the driver ended before it was killed";
+    // Its solver dies with it (SIGTERM from the kernel when its parent goes).
+    for (int i = 0; i < 50 && !processesIn(dir).empty(); ++i) usleep(100000);
+    EXPECT_TRUE(processesIn(dir).empty()) << processesIn(dir).front();
+
+    r = runMixload({"campaign", "run", "k", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto out = nlohmann::json::parse(r.out);
+    EXPECT_EQ(out["counts"]["done"], 3);
+    EXPECT_EQ(out["counts"]["queued"], 0);
+    EXPECT_EQ(out["counts"]["running"], 0);
+    EXPECT_EQ(out["counts"]["failed"], 0);
+
+    r = runMixload({"campaign", "status", "k", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_TRUE(nlohmann::json::parse(r.out)["integrity_ok"].get<bool>());
+    // Exactly one finished directory per point: no temp, failed or duplicate cases.
+    int dirs = 0;
+    for (const auto& e : fs::directory_iterator(dir / "k" / "runs")) {
+        ++dirs;
+        const std::string name = e.path().filename().string();
+        EXPECT_EQ(name.find(".tmp"), std::string::npos) << name;
+        EXPECT_EQ(name.find(".failed"), std::string::npos) << name;
+        EXPECT_TRUE(fs::exists(e.path() / "result.json")) << name;
+    }
+    EXPECT_EQ(dirs, 3);
 }

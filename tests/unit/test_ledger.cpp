@@ -141,4 +141,6 @@ TEST(Ledger, SurvivesSigkillDuringWrites) {
     EXPECT_GT(done, 0);
     EXPECT_LE(running, 1);  // at most the one in flight when the signal came
     EXPECT_EQ(l.requeueRunning("c"), running);
+    for (const auto& r : l.runs("c"))
+        if (r.status == "queued") EXPECT_EQ(r.attempts, 0) << "an interrupted attempt was counted";
 }
