@@ -244,6 +244,20 @@ nlohmann::json qoisOf(const std::string& kind, const nlohmann::json& r) {
     return q;
 }
 
+// One design point in its own directory <home>/runs/<index>-<scene hash>. A second attempt runs
+// with half the Courant limit: the usual cure for a diverged run.
+template <class Job, class Scene, class Run>
+nlohmann::json runPoint(Scene s, bool retry, int np, const fs::path& home, int index,
+                        std::optional<std::chrono::steady_clock::time_point> deadline, Run run) {
+    if (retry) s.maxCourant *= 0.5;
+    Job job;
+    job.scene = s;
+    job.np = np;
+    job.out = home / "runs" / (std::to_string(index) + "-" + s.hash());
+    job.deadline = deadline;
+    return run(job);
+}
+
 // One driver per campaign: an advisory lock that the kernel drops when the driver dies, however.
 class DriverLock {
 public:
@@ -291,30 +305,14 @@ int runCampaign(const CampaignCmd& o) {
             }
             const auto r = l.claimNext(o.name, 2, false);
             if (!r) return;
-            // A second attempt runs with half the Courant limit: the usual cure for a diverged run.
             const bool retry = r->attempts > 1;
             try {
-                nlohmann::json res;
-                std::string dir;
-                if (c.scene == "mixer") {
-                    auto s = mixerSceneFor(c.sceneJson, r->params);
-                    if (retry) s.maxCourant *= 0.5;
-                    run::MixerJob job;
-                    job.scene = s;
-                    job.np = o.np;
-                    job.out = home / "runs" / (std::to_string(r->index) + "-" + s.hash());
-                    job.deadline = deadline;
-                    res = run::runMixer(job);
-                } else {
-                    auto s = collapseSceneFor(c.sceneJson, r->params);
-                    if (retry) s.maxCourant *= 0.5;
-                    run::CollapseJob job;
-                    job.scene = s;
-                    job.np = o.np;
-                    job.out = home / "runs" / (std::to_string(r->index) + "-" + s.hash());
-                    job.deadline = deadline;
-                    res = run::runCollapse(job);
-                }
+                const nlohmann::json res =
+                    c.scene == "mixer"
+                        ? runPoint<run::MixerJob>(mixerSceneFor(c.sceneJson, r->params), retry, o.np,
+                                                  home, r->index, deadline, run::runMixer)
+                        : runPoint<run::CollapseJob>(collapseSceneFor(c.sceneJson, r->params), retry,
+                                                     o.np, home, r->index, deadline, run::runCollapse);
                 l.markDone(r->id, qoisOf(c.scene, res), res.value("wall_seconds", 0.0),
                            res.value("core_seconds", res.value("wall_seconds", 0.0) * o.np),
                            res.value("run_dir", std::string()));
