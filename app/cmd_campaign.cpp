@@ -42,6 +42,7 @@ struct CampaignCmd {
     long long seed = 1;
     int jobs = 1, np = 1;
     double maxHours = 0;
+    std::optional<double> cellSize, endTime;
     bool json = false;
 };
 
@@ -54,9 +55,15 @@ void checkName(const std::string& name) {
 
 // The base inputs of a campaign, as stored in the ledger; every point applies its params on top.
 nlohmann::json baseOf(const CampaignCmd& o, const std::string& kind) {
-    if (kind == "mixer")
-        return {{"kind", kind}, {"scene", o.scene.empty() ? "gcm250" : o.scene}, {"method", o.method},
-                {"mesh", o.mesh.empty() ? "coarse" : o.mesh}};
+    if (kind == "mixer") {
+        nlohmann::json b{{"kind", kind}, {"scene", o.scene.empty() ? "gcm250" : o.scene},
+                         {"method", o.method}, {"mesh", o.mesh.empty() ? "coarse" : o.mesh}};
+        if (o.cellSize) b["cell_size_m"] = *o.cellSize, b["mesh"] = "custom";
+        if (o.endTime) b["end_time_s"] = *o.endTime;
+        return b;
+    }
+    if (o.cellSize || o.endTime)
+        throw InputError(o.cellSize ? "cell-size" : "end-time", "(given)", "mixer campaigns only");
     return {{"kind", kind}, {"material", o.scene.empty() ? "quartz" : o.scene},
             {"cells_per_length", o.mesh.empty() ? 30 : std::stoi(o.mesh)}};
 }
@@ -68,7 +75,9 @@ scene::MixerScene mixerSceneFor(const nlohmann::json& base, const nlohmann::json
     MixerOptions m;
     m.scene = base["scene"];
     m.method = base["method"].get<std::string>();
-    m.mesh = base["mesh"].get<std::string>();
+    if (base.contains("cell_size_m")) m.cellSize = base["cell_size_m"].get<double>();
+    else m.mesh = base["mesh"].get<std::string>();
+    if (base.contains("end_time_s")) m.endTime = base["end_time_s"].get<double>();
     const double muS0 = m.build().material.muS;
     if (p.contains("mu_s")) m.muS = param(p, "mu_s");
     if (p.contains("delta_mu")) m.muD = m.muS.value_or(muS0) + param(p, "delta_mu");
@@ -362,6 +371,8 @@ void addCampaign(CLI::App& app, Action& action) {
     cr->add_option("--scene", o->scene, "Mixer: scene name or file (default gcm250); collapse: material (default quartz)");
     cr->add_option("--method", o->method, "Mixer method: mrf | lts | sm")->capture_default_str();
     cr->add_option("--mesh", o->mesh, "Mixer: coarse | medium | fine (default coarse); collapse: cells per column length (default 30)");
+    cr->add_option("--cell-size", o->cellSize, "Mixer: explicit cell size [m] instead of --mesh");
+    cr->add_option("--end-time", o->endTime, "Mixer: cap on simulated time per run [s]");
     cr->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
     cr->add_flag("--json", o->json, "Print JSON");
     cr->callback([&action, o] { action = [o] { return create(*o); }; });
