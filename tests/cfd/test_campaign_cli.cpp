@@ -150,3 +150,26 @@ TEST(CampaignCli, DriverKilledWithSigkillFinishesEveryRunOnce) {
     }
     EXPECT_EQ(dirs, 3);
 }
+
+TEST(CampaignCli, MaxHoursStopsTheSolverAndRequeues) {
+    const fs::path dir = scratchDir("campaign-hours");
+    const auto ranges = rangesFile(dir, "r", "scene = \"collapse\"\n[aspect]\nmin = 1\nmax = 3\nunit = \"1\"\n");
+    auto r = runMixload({"campaign", "create", "h", "--ranges", ranges.string(), "--n", "2", "--mesh",
+                         "10", "--dir", dir.string()});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    // 0.0005 h = 1.8 s: the first run is stopped in the middle and given back to the queue.
+    r = runMixload({"campaign", "run", "h", "--max-hours", "0.0005", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto out = nlohmann::json::parse(r.out);
+    EXPECT_TRUE(out["stopped_at_max_hours"].get<bool>());
+    EXPECT_LT(out["wall_seconds"].get<double>(), 30.0);
+    EXPECT_EQ(out["counts"]["queued"], 2);
+    EXPECT_EQ(out["counts"]["running"], 0);
+    r = runMixload({"campaign", "export", "h", "-o", (dir / "h.csv").string(), "--dir", dir.string()});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    std::ifstream in(dir / "h.csv");
+    std::string line;
+    std::getline(in, line);
+    std::getline(in, line);
+    while (std::getline(in, line)) EXPECT_NE(line.find(",queued,0,"), std::string::npos) << line;
+}
