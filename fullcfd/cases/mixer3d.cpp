@@ -47,10 +47,9 @@ std::string snappyHexMeshDict(const scene::MixerScene& s) {
     const double zIn = -0.5 * (g.shaftRadius() + g.rotorRadius()) - 0.1234 * s.cellSize;
     const double yIn = 0.0917 * s.cellSize;
     std::ostringstream os;
-    // Walls stay castellated (stair-stepped hexahedra). Snapped cells against the shaft and bore
-    // made interFoam blow up in its first steps on a resting bed (velocities of 1e8 m/s in air
-    // cells between a snapped wall and the powder surface, with any scheme, solver or rheology),
-    // while the castellated mesh of the same scene stays at rest: see the README's mixer section.
+    // Walls stay castellated (stair-stepped hexahedra), the mesh every mrf/lts figure in the README
+    // was measured on. Snapped meshes blew up with Debian's -O3 interFoam (README, "Why mixload
+    // builds its own interFoam") and have not been retried with mixload's build.
     // The frozen-rotor zone needs no conforming boundary: topoSet picks its cells (topoSetDict).
     os << "castellatedMesh true;\nsnap false;\naddLayers false;\n\n"
        << "geometry\n{\n"
@@ -85,9 +84,8 @@ std::string snappyHexMeshDict(const scene::MixerScene& s) {
        << "    nSmoothThickness 10;\n    maxFaceThicknessRatio 0.5;\n"
        << "    maxThicknessToMedialRatio 0.3;\n    minMedialAxisAngle 90;\n"
        << "    nBufferCellsNoExtrude 0;\n    nLayerIter 50;\n}\n\n"
-       // Stricter than snappy's defaults: interFoam rebuilds cell velocities from face fluxes
-       // (fvc::reconstruct), which blows up in cells whose faces nearly share one direction; a
-       // high minimum cell determinant keeps such cells castellated instead of snapped.
+       // Stricter than snappy's defaults (a high minimum cell determinant), kept from the time
+       // snapped cells were suspected of the blow-ups that Debian's solver binary caused.
        << "meshQualityControls\n{\n    maxNonOrtho 60;\n    maxBoundarySkewness 20;\n"
        << "    maxInternalSkewness 4;\n    maxConcave 80;\n    minVol 1e-13;\n"
        << "    minTetQuality 1e-9;\n    minArea -1;\n    minTwist 0.05;\n"

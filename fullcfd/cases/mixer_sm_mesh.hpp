@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The sliding-mesh (sm) mixer mesh: a blockMesh O-grid whose rotating zone is bounded by exact
 // block faces, so its AMI interface is the same cylinder on both sides, and paddles cut out of the
-// zone as stair-stepped cells (topoSet + subsetMesh). snappyHexMesh is not used: every snapped
-// mixer mesh tried blew up interFoam on a resting bed (README, mixer section).
+// zone as stair-stepped cells (topoSet + subsetMesh). No snappyHexMesh: block faces give an exact,
+// repeatable interface and an outlet/weir split on block edges.
 #pragma once
 #include <string>
 #include <vector>
