@@ -105,6 +105,19 @@ std::string sceneHashFor(const nlohmann::json& base, const nlohmann::json& p) {
     return base["kind"] == "mixer" ? mixerSceneFor(base, p).hash() : collapseSceneFor(base, p).hash();
 }
 
+std::vector<nlohmann::json> pointsOf(const experiments::ParameterSpace& space, const nlohmann::json& base,
+                                     const experiments::Design& unit) {
+    std::vector<nlohmann::json> points;
+    for (const auto& u : unit) {
+        const auto x = space.toPhysical(u);
+        nlohmann::json p;
+        for (size_t j = 0; j < x.size(); ++j) p[space.params[j].name] = x[j];
+        p["scene_hash"] = sceneHashFor(base, p);
+        points.push_back(p);
+    }
+    return points;
+}
+
 int create(const CampaignCmd& o) {
     checkName(o.name);
     requireRange("n", o.n, 1, 100000);
@@ -120,14 +133,7 @@ int create(const CampaignCmd& o) {
                                                         static_cast<std::uint64_t>(o.seed))
                           : experiments::sobol(o.n, static_cast<int>(space.params.size()));
     // Every point becomes a validated scene before the ledger exists: bad input leaves nothing.
-    std::vector<nlohmann::json> points;
-    for (const auto& u : unit) {
-        const auto x = space.toPhysical(u);
-        nlohmann::json p;
-        for (size_t j = 0; j < x.size(); ++j) p[space.params[j].name] = x[j];
-        p["scene_hash"] = sceneHashFor(base, p);
-        points.push_back(p);
-    }
+    const auto points = pointsOf(space, base, unit);
     experiments::CampaignInfo info;
     info.name = o.name;
     info.scene = space.scene;
@@ -166,6 +172,34 @@ experiments::CampaignInfo openCampaign(const CampaignCmd& o, std::unique_ptr<exp
     auto c = l->campaign(o.name);
     if (!c) throw InputError("name", o.name, "a campaign recorded in " + ledgerPath(o).string());
     return *c;
+}
+
+// Adds n points without repeating any: the Sobol sequence continues where the campaign stopped;
+// a Latin hypercube is augmented into the strata its points leave free.
+int extend(const CampaignCmd& o) {
+    requireRange("n", o.n, 1, 100000);
+    std::unique_ptr<experiments::Ledger> l;
+    const auto c = openCampaign(o, l);
+    const auto space = experiments::parseRanges(c.rangesToml, o.name + " (ranges recorded in the ledger)");
+    const auto runs = l->runs(o.name);
+    experiments::Design old;
+    for (const auto& r : runs) {
+        std::vector<double> x;
+        for (const auto& p : space.params) x.push_back(r.params.at(p.name).get<double>());
+        old.push_back(space.toUnit(x));
+    }
+    const int k = static_cast<int>(space.params.size());
+    const auto unit = c.design == "sobol"
+                          ? experiments::sobol(o.n, k, static_cast<int>(runs.size()))
+                          : experiments::augmentLatinHypercube(old, o.n, c.seed + runs.size());
+    const auto points = pointsOf(space, c.sceneJson, unit);
+    l->addPoints(o.name, points);
+    const nlohmann::json out{{"campaign", o.name}, {"added", points.size()},
+                             {"points", runs.size() + points.size()}};
+    if (o.json) std::cout << out.dump(2) << '\n';
+    else std::cout << "campaign " << o.name << ": " << points.size() << " points added ("
+                   << runs.size() + points.size() << " in all)\n";
+    return 0;
 }
 
 int status(const CampaignCmd& o) {
@@ -385,6 +419,13 @@ void addCampaign(CLI::App& app, Action& action) {
     rn->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
     rn->add_flag("--json", o->json, "Print JSON");
     rn->callback([&action, o] { action = [o] { return runCampaign(*o); }; });
+
+    auto* xt = camp->add_subcommand("extend", "Add points to a campaign's design without repeating any (Sobol continues; LHS is augmented)");
+    xt->add_option("name", o->name, "Campaign name")->required();
+    xt->add_option("--n", o->n, "Number of points to add")->required();
+    xt->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
+    xt->add_flag("--json", o->json, "Print JSON");
+    xt->callback([&action, o] { action = [o] { return extend(*o); }; });
 
     auto* st = camp->add_subcommand("status", "Counts of queued, running, done and failed runs");
     st->add_option("name", o->name, "Campaign name")->required();

@@ -52,6 +52,13 @@ std::vector<double> ParameterSpace::toPhysical(const std::vector<double>& unit) 
     return x;
 }
 
+std::vector<double> ParameterSpace::toUnit(const std::vector<double>& physical) const {
+    std::vector<double> u(params.size());
+    for (size_t j = 0; j < params.size(); ++j)
+        u[j] = (physical.at(j) - params[j].min) / (params[j].max - params[j].min);
+    return u;
+}
+
 const Parameter* ParameterSpace::find(const std::string& name) const {
     for (const auto& p : params)
         if (p.name == name) return &p;

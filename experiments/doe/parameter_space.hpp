@@ -27,6 +27,8 @@ struct ParameterSpace {
 
     // A point of the unit cube [0,1)^k mapped linearly to the box.
     std::vector<double> toPhysical(const std::vector<double>& unit) const;
+    // The inverse, for extending a design from its recorded physical points.
+    std::vector<double> toUnit(const std::vector<double>& physical) const;
     const Parameter* find(const std::string& name) const;
 };
 

@@ -6,6 +6,7 @@
 
 #include <csignal>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -172,4 +173,42 @@ TEST(CampaignCli, MaxHoursStopsTheSolverAndRequeues) {
     std::getline(in, line);
     std::getline(in, line);
     while (std::getline(in, line)) EXPECT_NE(line.find(",queued,0,"), std::string::npos) << line;
+}
+
+TEST(CampaignCli, ExtendAddsOnlyNewPoints) {
+    const fs::path dir = scratchDir("campaign-extend");
+    const auto ranges = rangesFile(dir, "r", "scene = \"collapse\"\n[aspect]\nmin = 1\nmax = 3\nunit = \"1\"\n");
+    auto aspects = [&](const std::string& name) {
+        const fs::path csv = dir / (name + ".csv");
+        EXPECT_EQ(runMixload({"campaign", "export", name, "-o", csv.string(), "--dir", dir.string()}).rc, 0);
+        std::ifstream in(csv);
+        std::string line;
+        std::getline(in, line);
+        std::getline(in, line);
+        std::vector<double> a;
+        while (std::getline(in, line)) a.push_back(std::stod(line.substr(line.find(',') + 1)));
+        return a;
+    };
+    for (const char* design : {"sobol", "lhs"}) {
+        const std::string name = std::string("x-") + design;
+        ASSERT_EQ(runMixload({"campaign", "create", name, "--ranges", ranges.string(), "--design", design,
+                              "--n", "4", "--mesh", "10", "--dir", dir.string()}).rc, 0);
+        const auto before = aspects(name);
+        const auto r = runMixload({"campaign", "extend", name, "--n", "4", "--dir", dir.string()});
+        ASSERT_EQ(r.rc, 0) << r.err;
+        const auto after = aspects(name);
+        ASSERT_EQ(after.size(), 8u);
+        for (size_t i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(after[i], before[i]);  // old points kept
+        if (std::string(design) == "sobol") {
+            // GSL's sequence continues (dimension 1, the zero point skipped), mapped to [1, 3].
+            const double u[8] = {0.5, 0.75, 0.25, 0.375, 0.875, 0.625, 0.125, 0.1875};
+            for (size_t i = 0; i < 8; ++i) EXPECT_DOUBLE_EQ(after[i], 1 + 2 * u[i]) << i;
+        } else {
+            // The new points take the strata of the finer division the old ones leave free.
+            std::set<int> strata;
+            for (double a : after) strata.insert(static_cast<int>((a - 1) / 2 * 8));
+            EXPECT_EQ(strata.size(), 8u);
+        }
+        EXPECT_EQ(std::set<double>(after.begin(), after.end()).size(), 8u) << "a point repeats";
+    }
 }
