@@ -42,8 +42,8 @@ struct CampaignCmd {
     long long seed = 1;
     int jobs = 1, np = 1;
     double maxHours = 0;
-    std::optional<double> cellSize, endTime;
-    bool json = false;
+    std::optional<double> cellSize, endTime, initialLoadingKg;
+    bool json = false, snapshots = false;
 };
 
 fs::path ledgerPath(const CampaignCmd& o) { return fs::path(o.dir) / o.name / "ledger.sqlite"; }
@@ -60,10 +60,12 @@ nlohmann::json baseOf(const CampaignCmd& o, const std::string& kind) {
                          {"method", o.method}, {"mesh", o.mesh.empty() ? "coarse" : o.mesh}};
         if (o.cellSize) b["cell_size_m"] = *o.cellSize, b["mesh"] = "custom";
         if (o.endTime) b["end_time_s"] = *o.endTime;
+        if (o.initialLoadingKg) b["initial_loading_kg"] = *o.initialLoadingKg;
         return b;
     }
-    if (o.cellSize || o.endTime)
-        throw InputError(o.cellSize ? "cell-size" : "end-time", "(given)", "mixer campaigns only");
+    if (o.cellSize || o.endTime || o.initialLoadingKg)
+        throw InputError(o.cellSize ? "cell-size" : o.endTime ? "end-time" : "initial-loading-kg",
+                         "(given)", "mixer campaigns only");
     return {{"kind", kind}, {"material", o.scene.empty() ? "quartz" : o.scene},
             {"cells_per_length", o.mesh.empty() ? 30 : std::stoi(o.mesh)}};
 }
@@ -78,6 +80,8 @@ scene::MixerScene mixerSceneFor(const nlohmann::json& base, const nlohmann::json
     if (base.contains("cell_size_m")) m.cellSize = base["cell_size_m"].get<double>();
     else m.mesh = base["mesh"].get<std::string>();
     if (base.contains("end_time_s")) m.endTime = base["end_time_s"].get<double>();
+    if (base.contains("initial_loading_kg"))
+        m.initialLoadingKg = base["initial_loading_kg"].get<double>();
     const double muS0 = m.build().material.muS;
     if (p.contains("mu_s")) m.muS = param(p, "mu_s");
     if (p.contains("delta_mu")) m.muD = m.muS.value_or(muS0) + param(p, "delta_mu");
@@ -290,12 +294,13 @@ nlohmann::json qoisOf(const std::string& kind, const nlohmann::json& r) {
 // One design point in its own directory <home>/runs/<index>-<scene hash>. A second attempt runs
 // with half the Courant limit: the usual cure for a diverged run.
 template <class Job, class Scene, class Run>
-nlohmann::json runPoint(Scene s, bool retry, int np, const fs::path& home, int index,
+nlohmann::json runPoint(Scene s, bool retry, int np, bool snapshots, const fs::path& home, int index,
                         std::optional<std::chrono::steady_clock::time_point> deadline, Run run) {
     if (retry) s.maxCourant *= 0.5;
     Job job;
     job.scene = s;
     job.np = np;
+    job.snapshots = snapshots;
     job.out = home / "runs" / (std::to_string(index) + "-" + s.hash());
     job.deadline = deadline;
     return run(job);
@@ -353,9 +358,9 @@ int runCampaign(const CampaignCmd& o) {
                 const nlohmann::json res =
                     c.scene == "mixer"
                         ? runPoint<run::MixerJob>(mixerSceneFor(c.sceneJson, r->params), retry, o.np,
-                                                  home, r->index, deadline, run::runMixer)
+                                                  o.snapshots, home, r->index, deadline, run::runMixer)
                         : runPoint<run::CollapseJob>(collapseSceneFor(c.sceneJson, r->params), retry,
-                                                     o.np, home, r->index, deadline, run::runCollapse);
+                                                     o.np, o.snapshots, home, r->index, deadline, run::runCollapse);
                 l.markDone(r->id, qoisOf(c.scene, res), res.value("wall_seconds", 0.0),
                            res.value("core_seconds", res.value("wall_seconds", 0.0) * o.np),
                            res.value("run_dir", std::string()));
@@ -407,6 +412,8 @@ void addCampaign(CLI::App& app, Action& action) {
     cr->add_option("--mesh", o->mesh, "Mixer: coarse | medium | fine (default coarse); collapse: cells per column length (default 30)");
     cr->add_option("--cell-size", o->cellSize, "Mixer: explicit cell size [m] instead of --mesh");
     cr->add_option("--end-time", o->endTime, "Mixer: cap on simulated time per run [s]");
+    cr->add_option("--initial-loading-kg", o->initialLoadingKg,
+                   "Mixer: powder deposited at t = 0 [kg]; near the expected loading shortens each run");
     cr->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
     cr->add_flag("--json", o->json, "Print JSON");
     cr->callback([&action, o] { action = [o] { return create(*o); }; });
@@ -417,6 +424,7 @@ void addCampaign(CLI::App& app, Action& action) {
     rn->add_option("--np", o->np, "MPI ranks per run")->capture_default_str();
     rn->add_option("--max-hours", o->maxHours, "Stop cleanly after this many hours (0: no limit); unfinished runs resume next time");
     rn->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
+    rn->add_flag("--snapshots", o->snapshots, "Keep every written time of each run and export its snapshots.h5");
     rn->add_flag("--json", o->json, "Print JSON");
     rn->callback([&action, o] { action = [o] { return runCampaign(*o); }; });
 

@@ -115,7 +115,7 @@ std::string topoSetDict(const scene::MixerScene& s) {
 
 std::string rotationAxis() { return "origin (0 0 0);\naxis (1 0 0);\n"; }
 
-std::string controlDict(const scene::MixerScene& s) {
+std::string controlDict(const scene::MixerScene& s, bool keepAllTimes) {
     const bool lts = s.method == "lts";
     std::ostringstream os;
     os << "application interFoam;\nlibs (" << mixloadFoamLibs() << ");\n"
@@ -134,7 +134,8 @@ std::string controlDict(const scene::MixerScene& s) {
            << num(s.maxCourant) << ";\nmaxDeltaT "
            << num(std::min(0.01, s.revolutionTime() / 72.0)) << ";\n";
     }
-    os << "purgeWrite 3;\nwriteFormat binary;\nwritePrecision 10;\nwriteCompression off;\n"
+    // Only the last few times are needed to resume; snapshot export wants every written time.
+    os << "purgeWrite " << (keepAllTimes ? 0 : 3) << ";\nwriteFormat binary;\nwritePrecision 10;\nwriteCompression off;\n"
        << "timeFormat general;\ntimePrecision 10;\nrunTimeModifiable yes;\n\n"
        << "functions\n{\n    " << kLoadingMonitor << "\n    {\n"
        << "        type loadingMonitor;\n        alpha alpha.powder;\n"
@@ -287,10 +288,14 @@ void writeMixerMeshCase(const scene::MixerScene& s, const fs::path& dir, int np)
         writeFoamFile(dir, "system/snappyHexMeshDict", "dictionary", snappyHexMeshDict(s));
         writeFoamFile(dir, "system/topoSetDict", "dictionary", topoSetDict(s));
     }
-    writeFoamFile(dir, "system/controlDict", "dictionary", controlDict(s));
+    writeMixerControlDict(s, dir, false);
     writeFoamFile(dir, "system/fvSchemes", "dictionary", fvSchemes(s));
     writeFoamFile(dir, "system/fvSolution", "dictionary", fvSolution(s));
     writeFoamFile(dir, "system/decomposeParDict", "dictionary", decomposeParDict(np));
+}
+
+void writeMixerControlDict(const scene::MixerScene& s, const fs::path& dir, bool keepAllTimes) {
+    writeFoamFile(dir, "system/controlDict", "dictionary", controlDict(s, keepAllTimes));
 }
 
 std::vector<std::vector<std::string>> mixerMeshSteps(const scene::MixerScene& s) {

@@ -18,6 +18,11 @@ inline constexpr const char* kLoadingMonitor = "loading";
 // decomposeParDict).
 void writeMixerMeshCase(const scene::MixerScene& s, const std::filesystem::path& caseDir, int np);
 
+// (Re)writes system/controlDict; keepAllTimes keeps every written time (for snapshots) instead of
+// the last three. The solver rereads it, so a resumed run can switch.
+void writeMixerControlDict(const scene::MixerScene& s, const std::filesystem::path& caseDir,
+                           bool keepAllTimes);
+
 // The utilities that turn the written case into the final mesh, in order.
 std::vector<std::vector<std::string>> mixerMeshSteps(const scene::MixerScene& s);
 

@@ -16,6 +16,7 @@ struct CollapseJob {
     std::filesystem::path out;  // empty: runs/collapse-<hash>[-np<N>]
     bool progress = false;
     bool reuse = true;          // return a finished run's result instead of running again
+    bool snapshots = false;     // export <run dir>/snapshots.h5 at the end
     // Campaigns stop long runs here; they resume later from their last written time.
     std::optional<std::chrono::steady_clock::time_point> deadline;
 };

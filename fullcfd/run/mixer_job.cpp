@@ -50,6 +50,7 @@ nlohmann::json runMixer(const MixerJob& job) {
         meshSeconds = since(t0);
     }
 
+    if (job.snapshots) cases::writeMixerControlDict(s, dir, true);
     SolverRun r;
     r.caseDir = dir;
     r.np = job.np;

@@ -16,6 +16,7 @@ struct MixerJob {
     std::filesystem::path out;  // empty: runs/mixer-<hash>[-np<N>]
     bool progress = false;
     bool reuse = true;          // return a finished run's result instead of running again
+    bool snapshots = false;     // keep every written time and export <run dir>/snapshots.h5
     // Campaigns stop long runs here; they resume later from their last written time.
     std::optional<std::chrono::steady_clock::time_point> deadline;
 };
