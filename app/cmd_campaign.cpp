@@ -42,7 +42,7 @@ struct CampaignCmd {
     long long seed = 1;
     int jobs = 1, np = 1;
     double maxHours = 0;
-    std::optional<double> cellSize, endTime, initialLoadingKg;
+    std::optional<double> cellSize, endTime, initialLoadingKg, steadyTol, steadyFlowTol;
     bool json = false, snapshots = false;
 };
 
@@ -61,11 +61,13 @@ nlohmann::json baseOf(const CampaignCmd& o, const std::string& kind) {
         if (o.cellSize) b["cell_size_m"] = *o.cellSize, b["mesh"] = "custom";
         if (o.endTime) b["end_time_s"] = *o.endTime;
         if (o.initialLoadingKg) b["initial_loading_kg"] = *o.initialLoadingKg;
+        if (o.steadyTol) b["steady_tol"] = *o.steadyTol;
+        if (o.steadyFlowTol) b["steady_flow_tol"] = *o.steadyFlowTol;
         return b;
     }
-    if (o.cellSize || o.endTime || o.initialLoadingKg)
-        throw InputError(o.cellSize ? "cell-size" : o.endTime ? "end-time" : "initial-loading-kg",
-                         "(given)", "mixer campaigns only");
+    if (o.cellSize || o.endTime || o.initialLoadingKg || o.steadyTol || o.steadyFlowTol)
+        throw InputError("cell-size, end-time, initial-loading-kg, steady-tol, steady-flow-tol", "(given)",
+                         "mixer campaigns only");
     return {{"kind", kind}, {"material", o.scene.empty() ? "quartz" : o.scene},
             {"cells_per_length", o.mesh.empty() ? 30 : std::stoi(o.mesh)}};
 }
@@ -82,6 +84,8 @@ scene::MixerScene mixerSceneFor(const nlohmann::json& base, const nlohmann::json
     if (base.contains("end_time_s")) m.endTime = base["end_time_s"].get<double>();
     if (base.contains("initial_loading_kg"))
         m.initialLoadingKg = base["initial_loading_kg"].get<double>();
+    if (base.contains("steady_tol")) m.tol = base["steady_tol"].get<double>();
+    if (base.contains("steady_flow_tol")) m.flowTol = base["steady_flow_tol"].get<double>();
     const double muS0 = m.build().material.muS;
     if (p.contains("mu_s")) m.muS = param(p, "mu_s");
     if (p.contains("delta_mu")) m.muD = m.muS.value_or(muS0) + param(p, "delta_mu");
@@ -414,6 +418,8 @@ void addCampaign(CLI::App& app, Action& action) {
     cr->add_option("--end-time", o->endTime, "Mixer: cap on simulated time per run [s]");
     cr->add_option("--initial-loading-kg", o->initialLoadingKg,
                    "Mixer: powder deposited at t = 0 [kg]; near the expected loading shortens each run");
+    cr->add_option("--steady-tol", o->steadyTol, "Mixer: steady when consecutive window means of M agree within this fraction");
+    cr->add_option("--steady-flow-tol", o->steadyFlowTol, "Mixer: ... and the mean outflow is within this fraction of the feed");
     cr->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
     cr->add_flag("--json", o->json, "Print JSON");
     cr->callback([&action, o] { action = [o] { return create(*o); }; });

@@ -14,6 +14,7 @@ struct CollapseCmd {
     std::string out;
     bool json = false;
     bool rerun = false;
+    bool snapshots = false;
 };
 }  // namespace
 
@@ -24,6 +25,8 @@ void addCollapse(CLI::App& app, Action& action) {
     cmd->add_option("--np", o->np, "MPI ranks (OpenFOAM decomposition)")->capture_default_str();
     cmd->add_option("--out", o->out, "Run directory (default runs/collapse-<scene hash>)");
     cmd->add_flag("--rerun", o->rerun, "Run again even if the run directory holds a finished result");
+    cmd->add_flag("--snapshots", o->snapshots,
+                  "Export the run's written times to <run dir>/snapshots.h5 (+ .xmf) at the end");
     cmd->add_flag("--json", o->json, "Print the result as JSON");
     cmd->callback([&action, o] {
         action = [o] {
@@ -33,6 +36,7 @@ void addCollapse(CLI::App& app, Action& action) {
             job.out = o->out;
             job.progress = !o->json;
             job.reuse = !o->rerun;
+            job.snapshots = o->snapshots;
             const auto r = run::runCollapse(job);
             if (o->json) {
                 std::cout << r.dump(2) << '\n';
@@ -48,6 +52,8 @@ void addCollapse(CLI::App& app, Action& action) {
                       << "\n  wall time " << r["wall_seconds"].get<double>() << " s"
                       << "\n  run dir " << r["run_dir"].get<std::string>()
                       << "\n  plot " << r["plot"].get<std::string>() << '\n';
+            if (r.contains("snapshots"))
+                std::cout << "  snapshots " << r["snapshots"].get<std::string>() << '\n';
             return 0;
         };
     });

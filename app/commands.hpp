@@ -13,4 +13,5 @@ void addBench(CLI::App& app, Action& action);
 void addStudy(CLI::App& app, Action& action);
 void addCampaign(CLI::App& app, Action& action);
 void addMixer(CLI::App& app, Action& action);
+void addSnapshots(CLI::App& app, Action& action);
 }  // namespace mixload::app

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
     mixload::app::addInfo(app, action);
     mixload::app::addCollapse(app, action);
     mixload::app::addMixer(app, action);
+    mixload::app::addSnapshots(app, action);
     mixload::app::addBench(app, action);
     mixload::app::addStudy(app, action);
     mixload::app::addCampaign(app, action);

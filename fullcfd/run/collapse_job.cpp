@@ -23,7 +23,10 @@ nlohmann::json runCollapse(const CollapseJob& job) {
     s.validate();
     requireRange("np", job.np, 1, 256);
     const fs::path dir = fs::absolute(job.out.empty() ? defaultCollapseDir(s, job.np) : job.out);
-    if (auto done = checkRunDir(dir, s.hash(), job.reuse)) return *done;
+    if (auto done = checkRunDir(dir, s.hash(), job.reuse)) {
+        if (job.snapshots) addSnapshots(*done, dir);
+        return *done;
+    }
 
     const auto t0 = std::chrono::steady_clock::now();
     // --rerun starts over; otherwise a case that has a mesh resumes from its latest time.
@@ -57,6 +60,7 @@ nlohmann::json runCollapse(const CollapseJob& job) {
     result["plot"] = warn.empty() ? (dir / "collapse.png").string() : "";
     if (!warn.empty()) result["plot_warning"] = warn;
     writeFileAtomic(dir / "result.json", result.dump(2));
+    if (job.snapshots) addSnapshots(result, dir);
     return result;
 }
 

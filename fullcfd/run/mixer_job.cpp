@@ -29,7 +29,10 @@ nlohmann::json runMixer(const MixerJob& job) {
     s.validate();
     requireRange("np", job.np, 1, 256);
     const fs::path dir = fs::absolute(job.out.empty() ? defaultMixerDir(s, job.np) : job.out);
-    if (auto done = checkRunDir(dir, s.hash(), job.reuse)) return *done;
+    if (auto done = checkRunDir(dir, s.hash(), job.reuse)) {
+        if (job.snapshots) addSnapshots(*done, dir);
+        return *done;
+    }
     const auto t0 = std::chrono::steady_clock::now();
     double meshSeconds = 0;
     const bool fresh = !job.reuse || !fs::exists(dir / "constant" / "polyMesh");
@@ -75,6 +78,7 @@ nlohmann::json runMixer(const MixerJob& job) {
     result["plot"] = warn.empty() ? (dir / "loading.png").string() : "";
     if (!warn.empty()) result["plot_warning"] = warn;
     writeFileAtomic(dir / "result.json", result.dump(2));
+    if (job.snapshots) addSnapshots(result, dir);
     return result;
 }
 

@@ -4,6 +4,7 @@
 #include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
 #include "mixload_version.hpp"
+#include "post/snapshots.hpp"
 #include "run/foam_runner.hpp"
 
 namespace mixload::run {
@@ -48,6 +49,16 @@ void buildCaseAtomically(const fs::path& dir, const std::function<void(const fs:
     }
     fs::remove_all(dir);
     fs::rename(tmp, dir);
+}
+
+void addSnapshots(nlohmann::json& result, const fs::path& dir) {
+    if (result.contains("snapshots") && fs::exists(result["snapshots"].get<std::string>())) return;
+    post::SnapshotExport e;
+    e.runDir = dir;
+    result["snapshots"] = post::exportSnapshots(e)["file"];
+    nlohmann::json stored = result;
+    stored.erase("reused");
+    writeFileAtomic(dir / "result.json", stored.dump(2));
 }
 
 void stampProvenance(nlohmann::json& result, const fs::path& dir, const std::string& hash) {

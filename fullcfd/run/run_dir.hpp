@@ -22,6 +22,10 @@ std::optional<nlohmann::json> checkRunDir(const std::filesystem::path& dir, cons
 void buildCaseAtomically(const std::filesystem::path& dir,
                          const std::function<void(const std::filesystem::path&)>& build);
 
+// Exports <dir>/snapshots.h5 unless the result already names an existing one, and records its path
+// under "snapshots" in result and in <dir>/result.json.
+void addSnapshots(nlohmann::json& result, const std::filesystem::path& dir);
+
 // Adds run_dir, scene_hash, mixload_version, git_commit and openfoam_version.
 void stampProvenance(nlohmann::json& result, const std::filesystem::path& dir,
                      const std::string& hash);

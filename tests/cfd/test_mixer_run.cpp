@@ -12,7 +12,10 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_harness.hpp"
-#include "foam_points.hpp"
+#include "post/foam_files.hpp"
+#include "post/h5_io.hpp"
+#include "post/snapshots.hpp"
+#include "run/foam_runner.hpp"
 
 using namespace mixload::testing;
 namespace fs = std::filesystem;
@@ -39,7 +42,7 @@ fs::path writeScene(const std::string& name, const std::string& text) {
 }  // namespace
 
 TEST(MixerRun, MrfReportsEveryFieldAndBalancesPowder) {
-    const auto r = runMixer("mrf", {"--method", "mrf", "--end-time", "0.05"});
+    const auto r = runMixer("mrf", {"--method", "mrf", "--end-time", "0.05", "--snapshots"});
     ASSERT_FALSE(r.is_null());
     for (const char* k : {"loading_kg", "loading_std_kg", "steady", "steady_time_s", "outflow_kg_h",
                           "history", "cells", "wall_seconds", "core_seconds", "method"})
@@ -56,6 +59,26 @@ TEST(MixerRun, MrfReportsEveryFieldAndBalancesPowder) {
     EXPECT_NEAR(r["initial_loading_kg"].get<double>(), 0.3, 0.1);  // staircase cells: not exact
     EXPECT_TRUE(r["powder_balance_ok"].get<bool>());
     EXPECT_FALSE(r.contains("warning"));
+
+    // Snapshots of a binary case: the fields as written (float32), the geometry as OpenFOAM's own.
+    const fs::path dir = r["run_dir"].get<std::string>(), h5 = r["snapshots"].get<std::string>();
+    const auto info = mixload::post::snapshotInfo(h5);
+    EXPECT_EQ(info["cells"], r["cells"]);
+    EXPECT_TRUE(mixload::h5::exists(mixload::h5::openFile(h5), "/loading"));
+    const auto mesh = mixload::post::readPolyMesh(dir / "constant" / "polyMesh");
+    const auto times = mixload::post::timeDirectories(dir);
+    const auto written = mixload::post::readInternalField(dir / times.back() / "alpha.powder", mesh.nCells);
+    const auto stored = mixload::post::readSnapshotField(h5, "alpha", info["times"]["count"].get<size_t>() - 1);
+    ASSERT_EQ(stored.size(), written.values.size());
+    for (size_t i = 0; i < stored.size(); ++i)
+        ASSERT_NEAR(stored[i], written.values[i], 1e-7 * std::abs(written.values[i]) + 1e-37);
+    const fs::path copy = scratchDir("mixer-geometry") / "case";
+    fs::create_directories(copy);
+    for (const char* d : {"constant", "system", "0"}) fs::copy(dir / d, copy / d, fs::copy_options::recursive);
+    mixload::run::runUtility(copy, {"postProcess", "-func", "writeCellVolumes", "-time", "0"});
+    const auto v = mixload::h5::readDoubles(mixload::h5::openFile(h5), "/mesh/cell_volumes");
+    const auto vf = mixload::post::readInternalField(copy / "0" / "V", mesh.nCells);
+    for (size_t i = 0; i < v.size(); ++i) ASSERT_NEAR(v[i], vf.values[i], 1e-10 * vf.values[i]) << i;
 }
 
 TEST(MixerRun, MrfParallelMatchesSerial) {
@@ -75,7 +98,7 @@ TEST(MixerRun, MrfParallelMatchesSerial) {
 
 TEST(MixerRun, SmZoneTurnsAsASolidBody) {
     // 254 rpm: every point of the rotor zone turns by omega t about the x axis, nothing else moves.
-    const auto r = runMixer("sm-turn", {"--method", "sm", "--rpm", "254", "--end-time", "0.015"});
+    const auto r = runMixer("sm-turn", {"--method", "sm", "--rpm", "254", "--end-time", "0.015", "--snapshots"});
     ASSERT_FALSE(r.is_null());
     const fs::path dir = r["run_dir"].get<std::string>();
     fs::path last;
@@ -89,8 +112,8 @@ TEST(MixerRun, SmZoneTurnsAsASolidBody) {
         if (te > t) t = te, last = e.path();
     }
     ASSERT_GT(t, 0.01) << "no moved mesh written";
-    const auto p0 = readFoamPoints(dir / "constant" / "polyMesh" / "points");
-    const auto p1 = readFoamPoints(last / "polyMesh" / "points");
+    const auto p0 = mixload::post::readPoints(dir / "constant" / "polyMesh" / "points");
+    const auto p1 = mixload::post::readPoints(last / "polyMesh" / "points");
     ASSERT_EQ(p0.size(), p1.size());
     const double turn = 254 * 2 * std::numbers::pi / 60 * t;
     size_t moved = 0;
@@ -109,6 +132,18 @@ TEST(MixerRun, SmZoneTurnsAsASolidBody) {
     }
     EXPECT_GT(moved, p0.size() / 3);
     EXPECT_LT(moved, p0.size());
+
+    // The snapshots follow the moving cells.
+    const fs::path h5 = r["snapshots"].get<std::string>();
+    const auto info = mixload::post::snapshotInfo(h5);
+    EXPECT_EQ(info["provenance"]["mesh_moves"].get<double>(), 1.0);
+    auto file = mixload::h5::openFile(h5);
+    const auto c0 = mixload::h5::readDoubles(file, "/mesh/cell_centres");
+    const auto c1 = mixload::h5::readRow(file, "/fields/cell_centres", info["times"]["count"].get<size_t>() - 1);
+    ASSERT_EQ(c0.size(), c1.size());
+    size_t movedCells = 0;
+    for (size_t i = 0; i < c0.size(); i += 3) movedCells += std::abs(c0[i + 1] - c1[i + 1]) > 1e-6;
+    EXPECT_GT(movedCells, c0.size() / 3 / 3);
 }
 
 TEST(MixerRun, SmRestingBedStaysAtRest) {

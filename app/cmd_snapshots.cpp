@@ -1,0 +1,97 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "app/commands.hpp"
+#include "post/snapshots.hpp"
+
+namespace mixload::app {
+
+namespace {
+struct SnapshotsCmd {
+    std::string runDir, output, fields = "alpha,U,p", file;
+    int every = 1;
+    bool float64 = false, json = false, noVerify = false;
+};
+
+std::vector<std::string> splitList(const std::string& s) {
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    std::string item;
+    while (std::getline(ss, item, ','))
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
+
+std::string mb(double bytes) {
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(2) << bytes / 1e6 << " MB";
+    return os.str();
+}
+}  // namespace
+
+void addSnapshots(CLI::App& app, Action& action) {
+    auto* cmd = app.add_subcommand("snapshots", "Export a run's fields to HDF5 (+ XDMF for ParaView) and inspect such files");
+    cmd->require_subcommand(1);
+    auto o = std::make_shared<SnapshotsCmd>();
+
+    auto* ex = cmd->add_subcommand("export", "Write RUN_DIR's written times to FILE.h5 and FILE.xmf");
+    ex->add_option("RUN_DIR", o->runDir, "Run directory (mixload collapse|mixer --out)")->required();
+    ex->add_option("-o,--output", o->output, "Output .h5 (default RUN_DIR/snapshots.h5)");
+    ex->add_option("--every", o->every, "Keep every K-th written time (the last is always kept)")->capture_default_str();
+    ex->add_option("--fields", o->fields, "Comma-separated fields (alpha = alpha.powder)")->capture_default_str();
+    ex->add_flag("--float64", o->float64, "Store fields in float64 (default float32: see README)");
+    ex->add_flag("--json", o->json, "Print the summary as JSON");
+    ex->callback([&action, o] {
+        action = [o] {
+            post::SnapshotExport e;
+            e.runDir = o->runDir;
+            e.output = o->output;
+            e.every = o->every;
+            e.fields = splitList(o->fields);
+            e.float64 = o->float64;
+            const auto r = post::exportSnapshots(e);
+            if (o->json) std::cout << r.dump(2) << '\n';
+            else
+                std::cout << "snapshots " << r["file"].get<std::string>() << ": " << r["times"] << " times x "
+                          << r["cells"] << " cells, fields " << r["fields"].dump() << " ("
+                          << r["field_precision"].get<std::string>() << "), " << mb(r["bytes"].get<double>())
+                          << "\n  ParaView: " << r["xdmf"].get<std::string>() << '\n';
+            return 0;
+        };
+    });
+
+    auto* in = cmd->add_subcommand("info", "Print a snapshot file's provenance, params and sizes; verify its checksums");
+    in->add_option("FILE", o->file, "Snapshot file (.h5)")->required();
+    in->add_flag("--no-verify", o->noVerify, "Skip reading every dataset (checksums)");
+    in->add_flag("--json", o->json, "Print JSON");
+    in->callback([&action, o] {
+        action = [o] {
+            const auto r = post::snapshotInfo(o->file, !o->noVerify);
+            if (o->json) {
+                std::cout << r.dump(2) << '\n';
+                return 0;
+            }
+            const auto& p = r["provenance"];
+            std::cout << r["file"].get<std::string>() << " (" << mb(r["bytes"].get<double>()) << ")\n"
+                      << "  scene " << p.value("scene_kind", "") << ", hash " << p.value("scene_hash", "")
+                      << "\n  written by mixload " << p.value("mixload_version", "") << " ("
+                      << p.value("git_commit", "") << "), OpenFOAM " << p.value("openfoam_version", "")
+                      << ", " << p.value("created_utc", "") << "\n  " << r["cells"] << " cells, "
+                      << r["times"]["count"] << " times from " << r["times"]["first"] << " to "
+                      << r["times"]["last"] << " s, fields " << p.value("field_precision", "") << "\n";
+            for (const auto& d : r["datasets"])
+                std::cout << "  " << std::left << std::setw(24) << d["path"].get<std::string>() << " "
+                          << std::setw(18) << d["shape"].dump() << " " << std::setw(8)
+                          << d["type"].get<std::string>() << " " << mb(d["stored_bytes"].get<double>())
+                          << " stored of " << mb(d["raw_bytes"].get<double>()) << '\n';
+            std::cout << "  params:";
+            for (const auto& [k, v] : r["params"].items()) std::cout << ' ' << k << '=' << v.dump();
+            std::cout << '\n' << (r["verified"].get<bool>() ? "  checksums verified\n" : "");
+            return 0;
+        };
+    });
+}
+
+}  // namespace mixload::app

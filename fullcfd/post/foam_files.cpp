@@ -1,0 +1,295 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "post/foam_files.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cstring>
+#include <regex>
+#include <stdexcept>
+
+#include "common/atomic_file.hpp"
+
+namespace mixload::post {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// One OpenFOAM file in memory with a cursor; every error names the file and the byte offset.
+class FoamReader {
+public:
+    explicit FoamReader(const fs::path& file) : file_(file), s_(readFile(file)) {
+        const auto h = s_.find("FoamFile");
+        const auto open = h == std::string::npos ? h : s_.find('{', h);
+        const auto close = open == std::string::npos ? open : s_.find('}', open);
+        if (close == std::string::npos) fail("no FoamFile header");
+        const std::string header = s_.substr(open, close - open);
+        binary_ = entry(header, "format") == "binary";
+        klass_ = entry(header, "class");
+        const std::string arch = entry(header, "arch");
+        if (binary_ && !arch.empty() && arch.find("label=32") == std::string::npos)
+            fail("binary file with arch " + arch + " (mixload reads label=32;scalar=64)");
+        if (binary_ && !arch.empty() && arch.find("scalar=64") == std::string::npos)
+            fail("binary file with arch " + arch + " (mixload reads label=32;scalar=64)");
+        pos_ = close + 1;
+    }
+
+    const std::string& klass() const { return klass_; }
+    bool binary() const { return binary_; }
+
+    [[noreturn]] void fail(const std::string& what) const {
+        throw std::runtime_error(file_.string() + ": " + what + " (at byte " +
+                                 std::to_string(pos_) + ")");
+    }
+
+    void skipSpace() {
+        for (;;) {
+            while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_;
+            if (s_.compare(pos_, 2, "//") == 0) {
+                pos_ = s_.find('\n', pos_);
+                if (pos_ == std::string::npos) pos_ = s_.size();
+            } else if (s_.compare(pos_, 2, "/*") == 0) {
+                const auto e = s_.find("*/", pos_ + 2);
+                pos_ = e == std::string::npos ? s_.size() : e + 2;
+            } else {
+                return;
+            }
+        }
+    }
+
+    char peek() {
+        skipSpace();
+        if (pos_ >= s_.size()) fail("unexpected end of file");
+        return s_[pos_];
+    }
+    void expect(char c) {
+        if (peek() != c) fail(std::string("expected '") + c + "'");
+        ++pos_;
+    }
+    std::string word() {
+        skipSpace();
+        const auto b = pos_;
+        while (pos_ < s_.size() && !std::isspace(static_cast<unsigned char>(s_[pos_])) &&
+               !std::strchr("(){};", s_[pos_]))
+            ++pos_;
+        if (b == pos_) fail("expected a word");
+        return s_.substr(b, pos_ - b);
+    }
+    template <class T>
+    T number() {
+        skipSpace();
+        T v{};
+        const auto [p, ec] = std::from_chars(s_.data() + pos_, s_.data() + s_.size(), v);
+        if (ec != std::errc()) fail("expected a number");
+        pos_ = static_cast<size_t>(p - s_.data());
+        return v;
+    }
+    // Moves the cursor past the keyword at the start of a line-level entry.
+    void seekKeyword(const std::string& key) {
+        const std::regex re("(^|[\\s;}])" + key + "\\s");
+        std::smatch m;
+        const std::string::const_iterator from = s_.begin() + static_cast<long>(pos_);
+        if (!std::regex_search(from, s_.cend(), m, re)) fail("no '" + key + "' entry");
+        pos_ = static_cast<size_t>(m[0].second - s_.cbegin());
+    }
+
+    // "N(...)" or "N{value}" of T, where T is a scalar type or an array of them (vectors).
+    template <class S, size_t K>
+    std::vector<S> list() {
+        const auto n = number<long long>();
+        if (n < 0) fail("negative list size");
+        std::vector<S> out(static_cast<size_t>(n) * K);
+        const char c = peek();
+        if (c == '{') {  // all elements equal
+            ++pos_;
+            const auto one = element<S, K>();
+            for (size_t i = 0; i < out.size(); i += K) std::copy(one.begin(), one.end(), out.begin() + i);
+            expect('}');
+            return out;
+        }
+        expect('(');
+        if (binary_) {
+            const size_t bytes = out.size() * sizeof(S);
+            if (pos_ + bytes > s_.size()) fail("binary list runs past the end of the file");
+            std::memcpy(out.data(), s_.data() + pos_, bytes);
+            pos_ += bytes;
+        } else {
+            for (size_t i = 0; i < out.size(); i += K) {
+                const auto e = element<S, K>();
+                std::copy(e.begin(), e.end(), out.begin() + i);
+            }
+        }
+        expect(')');
+        return out;
+    }
+
+    template <class S, size_t K>
+    std::array<S, K> element() {
+        std::array<S, K> e{};
+        if (K > 1) expect('(');
+        for (auto& x : e) x = number<S>();
+        if (K > 1) expect(')');
+        return e;
+    }
+
+    // ascii faceList: N( k(a b c ...) ... )
+    void faceList(std::vector<int32_t>& offsets, std::vector<int32_t>& labels) {
+        if (binary_) fail("binary faceList (expected faceCompactList)");
+        const auto n = number<long long>();
+        expect('(');
+        offsets.assign(1, 0);
+        offsets.reserve(static_cast<size_t>(n) + 1);
+        for (long long f = 0; f < n; ++f) {
+            const auto k = number<int32_t>();
+            expect('(');
+            for (int32_t i = 0; i < k; ++i) labels.push_back(number<int32_t>());
+            expect(')');
+            offsets.push_back(static_cast<int32_t>(labels.size()));
+        }
+        expect(')');
+    }
+
+    const std::string& text() const { return s_; }
+    size_t pos() const { return pos_; }
+
+private:
+    static std::string entry(const std::string& header, const std::string& key) {
+        std::smatch m;
+        if (std::regex_search(header, m, std::regex("\\b" + key + "\\s+(\"([^\"]*)\"|([^;]*));")))
+            return m[2].matched ? m[2].str() : m[3].str();
+        return {};
+    }
+
+    fs::path file_;
+    std::string s_;
+    size_t pos_ = 0;
+    bool binary_ = false;
+    std::string klass_;
+};
+
+std::vector<int32_t> labelList(const fs::path& file) { return FoamReader(file).list<int32_t, 1>(); }
+
+std::vector<FoamPatch> readBoundary(const fs::path& file) {
+    FoamReader r(file);
+    const auto n = r.number<long long>();
+    r.expect('(');
+    std::vector<FoamPatch> patches;
+    for (long long i = 0; i < n; ++i) {
+        FoamPatch p;
+        p.name = r.word();
+        r.expect('{');
+        while (r.peek() != '}') {
+            const std::string key = r.word();
+            std::string value;
+            // Values may be words, numbers or lists: read up to the entry's ';'.
+            while (r.peek() != ';') {
+                if (r.peek() == '(' || r.peek() == ')') {
+                    r.expect(r.peek());
+                    continue;
+                }
+                value += (value.empty() ? "" : " ") + r.word();
+            }
+            r.expect(';');
+            if (key == "type") p.type = value;
+            else if (key == "startFace") p.start = std::stoi(value);
+            else if (key == "nFaces") p.size = std::stoi(value);
+        }
+        r.expect('}');
+        patches.push_back(p);
+    }
+    return patches;
+}
+
+}  // namespace
+
+std::vector<Vec3> readPoints(const fs::path& pointsFile) {
+    const auto flat = FoamReader(pointsFile).list<double, 3>();
+    std::vector<Vec3> pts(flat.size() / 3);
+    std::memcpy(pts.data(), flat.data(), flat.size() * sizeof(double));
+    return pts;
+}
+
+FoamMesh readPolyMesh(const fs::path& dir) {
+    FoamMesh m;
+    m.points = readPoints(dir / "points");
+    {
+        FoamReader r(dir / "faces");
+        if (r.klass() == "faceCompactList") {
+            m.faceOffsets = r.list<int32_t, 1>();
+            m.facePoints = r.list<int32_t, 1>();
+        } else {
+            r.faceList(m.faceOffsets, m.facePoints);
+        }
+    }
+    m.owner = labelList(dir / "owner");
+    m.neighbour = labelList(dir / "neighbour");
+    m.patches = readBoundary(dir / "boundary");
+
+    const auto bad = [&](const std::string& what) {
+        throw std::runtime_error(dir.string() + ": inconsistent polyMesh: " + what);
+    };
+    if (m.faceOffsets.empty() || m.faceOffsets.size() != m.owner.size() + 1)
+        bad("faces and owner sizes differ");
+    if (m.faceOffsets.back() != static_cast<int32_t>(m.facePoints.size()))
+        bad("face offsets do not end at the label count");
+    if (m.neighbour.size() > m.owner.size()) bad("more neighbours than faces");
+    for (const auto l : m.facePoints)
+        if (l < 0 || static_cast<size_t>(l) >= m.points.size()) bad("face point label out of range");
+    int32_t maxCell = -1;
+    for (const auto c : m.owner) maxCell = std::max(maxCell, c);
+    for (const auto c : m.neighbour) maxCell = std::max(maxCell, c);
+    m.nCells = maxCell + 1;
+    for (const auto& p : m.patches)
+        if (p.start < 0 || p.size < 0 || static_cast<size_t>(p.start) + p.size > m.owner.size())
+            bad("patch " + p.name + " lies outside the face list");
+    return m;
+}
+
+FoamField readInternalField(const fs::path& file, int32_t nCells) {
+    FoamReader r(file);
+    FoamField f;
+    const std::string& k = r.klass();
+    if (k == "volScalarField") f.components = 1;
+    else if (k == "volVectorField") f.components = 3;
+    else r.fail("class " + k + " (mixload exports volScalarField and volVectorField)");
+    r.seekKeyword("internalField");
+    const std::string kind = r.word();
+    const size_t n = static_cast<size_t>(nCells) * f.components;
+    if (kind == "uniform") {
+        std::vector<double> one(f.components);
+        if (f.components == 1) one[0] = r.number<double>();
+        else {
+            const auto e = r.element<double, 3>();
+            one.assign(e.begin(), e.end());
+        }
+        f.values.resize(n);
+        for (size_t i = 0; i < n; ++i) f.values[i] = one[i % f.components];
+        return f;
+    }
+    if (kind != "nonuniform") r.fail("internalField is neither uniform nor nonuniform");
+    const std::string type = r.word();
+    if (type != (f.components == 1 ? "List<scalar>" : "List<vector>"))
+        r.fail("internalField of type " + type + " in a " + k);
+    f.values = f.components == 1 ? r.list<double, 1>() : r.list<double, 3>();
+    if (f.values.size() != n)
+        r.fail("internalField has " + std::to_string(f.values.size() / f.components) +
+               " values for a mesh of " + std::to_string(nCells) + " cells");
+    return f;
+}
+
+std::vector<std::string> timeDirectories(const fs::path& caseDir) {
+    std::vector<std::pair<double, std::string>> times;
+    for (const auto& e : fs::directory_iterator(caseDir)) {
+        if (!e.is_directory()) continue;
+        const std::string name = e.path().filename();
+        double t = 0;
+        const auto [p, ec] = std::from_chars(name.data(), name.data() + name.size(), t);
+        if (ec == std::errc() && p == name.data() + name.size()) times.emplace_back(t, name);
+    }
+    std::sort(times.begin(), times.end());
+    std::vector<std::string> out;
+    for (auto& t : times) out.push_back(t.second);
+    return out;
+}
+
+}  // namespace mixload::post

@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Reads what OpenFOAM wrote (polyMesh and internal fields, ascii or binary with 32-bit labels and
+// 64-bit scalars, as Debian's build writes them) without linking OpenFOAM, so the snapshot export
+// runs in the C++20 side and can be unit-tested on real run directories.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace mixload::post {
+
+using Vec3 = std::array<double, 3>;
+
+struct FoamPatch {
+    std::string name, type;
+    int32_t start = 0, size = 0;
+};
+
+struct FoamMesh {
+    std::vector<Vec3> points;
+    std::vector<int32_t> faceOffsets;  // face f uses facePoints[faceOffsets[f] .. faceOffsets[f+1])
+    std::vector<int32_t> facePoints;
+    std::vector<int32_t> owner, neighbour;  // neighbour: internal faces only
+    std::vector<FoamPatch> patches;
+    int32_t nCells = 0;
+    size_t nFaces() const { return owner.size(); }
+};
+
+// Reads constant/polyMesh (or any polyMesh directory). Throws std::runtime_error naming the file
+// on anything malformed or inconsistent.
+FoamMesh readPolyMesh(const std::filesystem::path& polyMeshDir);
+
+// Reads only the points of a polyMesh directory (a moving mesh writes them at every time).
+std::vector<Vec3> readPoints(const std::filesystem::path& pointsFile);
+
+// The internal field of a volume field file: nCells values (scalars) or nCells x 3 (vectors),
+// flattened row-major. "uniform" values are expanded.
+struct FoamField {
+    int components = 1;
+    std::vector<double> values;
+};
+FoamField readInternalField(const std::filesystem::path& file, int32_t nCells);
+
+// Time directories of a case (numeric names), sorted by time; the names as written.
+std::vector<std::string> timeDirectories(const std::filesystem::path& caseDir);
+
+}  // namespace mixload::post

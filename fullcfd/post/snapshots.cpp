@@ -1,0 +1,424 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "post/snapshots.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <ctime>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <sstream>
+
+#include "common/atomic_file.hpp"
+#include "common/input_error.hpp"
+#include "mixload_version.hpp"
+#include "post/foam_files.hpp"
+#include "post/h5_io.hpp"
+#include "post/mesh_geometry.hpp"
+#include "post/monitor_history.hpp"
+
+namespace mixload::post {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kSchema = "mixload-snapshots";
+
+std::string foamName(const std::string& f) { return f == "alpha" ? "alpha.powder" : f; }
+
+std::string unitOf(const std::string& field) {
+    static const std::map<std::string, std::string> units{
+        {"alpha.powder", "1"}, {"U", "m/s"}, {"p", "Pa"}, {"p_rgh", "Pa"}, {"nu", "m2/s"}};
+    const auto it = units.find(field);
+    return it == units.end() ? "see OpenFOAM dimensions" : it->second;
+}
+
+std::string utcNow() {
+    const std::time_t t = std::time(nullptr);
+    char buf[32];
+    std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+    return buf;
+}
+
+std::vector<double> flatten(const std::vector<Vec3>& v) {
+    std::vector<double> out(v.size() * 3);
+    for (size_t i = 0; i < v.size(); ++i)
+        for (int k = 0; k < 3; ++k) out[3 * i + k] = v[i][k];
+    return out;
+}
+
+// Scene inputs as /params attributes: nested keys joined with '.', units are in the key names.
+void writeParams(hid_t group, const nlohmann::json& j, const std::string& prefix) {
+    for (const auto& [k, v] : j.items()) {
+        const std::string name = prefix.empty() ? k : prefix + "." + k;
+        if (v.is_object()) writeParams(group, v, name);
+        else if (v.is_number()) h5::attr(group, name, v.get<double>());
+        else if (v.is_boolean()) h5::attr(group, name, static_cast<long long>(v.get<bool>()));
+        else if (v.is_string()) h5::attr(group, name, v.get<std::string>());
+        else h5::attr(group, name, v.dump());
+    }
+}
+
+struct History {
+    std::string columns;
+    std::vector<std::vector<double>> rows;
+};
+
+// Every monitor under postProcessing/, restarts merged.
+std::map<std::string, History> readHistories(const fs::path& runDir) {
+    std::map<std::string, History> out;
+    const fs::path pp = runDir / "postProcessing";
+    if (!fs::exists(pp)) return out;
+    for (const auto& mon : fs::directory_iterator(pp)) {
+        if (!mon.is_directory()) continue;
+        std::string file;
+        for (const auto& seg : fs::directory_iterator(mon.path()))
+            if (seg.is_directory())
+                for (const auto& f : fs::directory_iterator(seg.path()))
+                    if (f.path().extension() == ".dat") file = f.path().filename();
+        if (file.empty()) continue;
+        struct Row {
+            double t = 0;
+            std::vector<double> v;
+        };
+        const auto rows = readSegments<Row>(mon.path(), file, [](std::istringstream& ls, Row& r) {
+            double x;
+            while (ls >> x) r.v.push_back(x);
+            if (r.v.empty()) return false;
+            r.t = r.v[0];
+            return true;
+        });
+        History h;
+        for (const auto& seg : fs::directory_iterator(mon.path())) {
+            std::ifstream is(seg.path() / file);
+            std::string line;
+            if (std::getline(is, line) && !line.empty() && line[0] == '#') {
+                h.columns = line.substr(line.find_first_not_of("# "));
+                break;
+            }
+        }
+        size_t width = rows.empty() ? 0 : rows.front().v.size();
+        for (const auto& r : rows)
+            if (r.v.size() == width) h.rows.push_back(r.v);
+        out[mon.path().filename()] = h;
+    }
+    return out;
+}
+
+void writeXdmf(const fs::path& xdmf, const std::string& h5name, const std::vector<double>& times,
+               int32_t cells, const std::vector<std::pair<std::string, int>>& fields, bool float64,
+               bool moving) {
+    const std::string n = std::to_string(cells), nt = std::to_string(times.size());
+    std::ostringstream x;
+    x << "<?xml version=\"1.0\" ?>\n<!-- Cell centres as points: open in ParaView (Xdmf3 reader). -->\n"
+      << "<Xdmf Version=\"3.0\">\n <Domain>\n"
+      << "  <Grid Name=\"snapshots\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    const auto slab = [&](const std::string& path, int comps, size_t row, const char* prec) {
+        const std::string dims = comps == 1 ? n : n + " 3";
+        std::ostringstream s;
+        s << "     <DataItem ItemType=\"HyperSlab\" Dimensions=\"" << dims << "\" Type=\"HyperSlab\">\n"
+          << "      <DataItem Dimensions=\"3 " << (comps == 1 ? 2 : 3) << "\" Format=\"XML\">"
+          << row << " 0" << (comps == 1 ? "" : " 0") << "  1 1" << (comps == 1 ? "" : " 1")
+          << "  1 " << n << (comps == 1 ? "" : " 3") << "</DataItem>\n"
+          << "      <DataItem Dimensions=\"" << nt << " " << dims << "\" NumberType=\"Float\" Precision=\""
+          << prec << "\" Format=\"HDF\">" << h5name << ":" << path << "</DataItem>\n"
+          << "     </DataItem>\n";
+        return s.str();
+    };
+    for (size_t i = 0; i < times.size(); ++i) {
+        x << std::setprecision(12) << "   <Grid Name=\"t" << i << "\" GridType=\"Uniform\">\n"
+          << "    <Time Value=\"" << times[i] << "\"/>\n"
+          << "    <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n
+          << "\" NodesPerElement=\"1\"/>\n    <Geometry GeometryType=\"XYZ\">\n";
+        if (moving) x << slab("/fields/cell_centres", 3, i, "8");
+        else
+            x << "     <DataItem Dimensions=\"" << n << " 3\" NumberType=\"Float\" Precision=\"8\" "
+              << "Format=\"HDF\">" << h5name << ":/mesh/cell_centres</DataItem>\n";
+        x << "    </Geometry>\n"
+          << "    <Attribute Name=\"cell_volume\" AttributeType=\"Scalar\" Center=\"Node\">\n"
+          << "     <DataItem Dimensions=\"" << n << "\" NumberType=\"Float\" Precision=\"8\" "
+          << "Format=\"HDF\">" << h5name << ":/mesh/cell_volumes</DataItem>\n    </Attribute>\n";
+        for (const auto& [name, comps] : fields) {
+            x << "    <Attribute Name=\"" << name << "\" AttributeType=\""
+              << (comps == 1 ? "Scalar" : "Vector") << "\" Center=\"Node\">\n"
+              << slab("/fields/" + name, comps, i, float64 ? "8" : "4") << "    </Attribute>\n";
+        }
+        x << "   </Grid>\n";
+    }
+    x << "  </Grid>\n </Domain>\n</Xdmf>\n";
+    writeFileAtomic(xdmf, x.str());
+}
+
+}  // namespace
+
+nlohmann::json exportSnapshots(const SnapshotExport& e) {
+    const fs::path run = e.runDir;
+    if (!fs::is_directory(run / "constant" / "polyMesh") || !fs::exists(run / "scene.json"))
+        throw InputError("RUN_DIR", run.string(), "a mixload run directory (scene.json, constant/polyMesh)");
+    requireRange("every", e.every, 1, 1e6);
+    if (e.fields.empty()) throw InputError("fields", "(none)", "at least one field, e.g. alpha,U,p");
+    const fs::path out = e.output.empty() ? run / "snapshots.h5" : e.output;
+    if (out.extension() != ".h5") throw InputError("output", out.string(), "a file name ending in .h5");
+    if (!out.parent_path().empty() && !fs::is_directory(out.parent_path()))
+        throw InputError("output", out.string(), "a file in an existing directory");
+
+    const auto times = timeDirectories(run);
+    std::vector<std::string> names;
+    for (const auto& f : e.fields) names.push_back(foamName(f));
+    for (const auto& f : names) {
+        bool found = false;
+        for (const auto& t : times) found = found || fs::exists(run / t / f);
+        if (!found)
+            throw InputError("fields", f, "fields the run wrote (e.g. alpha, U, p, p_rgh)");
+    }
+    // Every K-th time, and always the last (the final state is what campaigns are about).
+    std::vector<std::string> picked, skipped;
+    for (size_t i = 0; i < times.size(); ++i) {
+        if (i % e.every != 0 && i + 1 != times.size()) continue;
+        bool all = true;
+        for (const auto& f : names) all = all && fs::exists(run / times[i] / f);
+        (all ? picked : skipped).push_back(times[i]);
+    }
+    if (picked.empty())
+        throw InputError("RUN_DIR", run.string(), "a run with at least one time holding every requested field");
+
+    const FoamMesh mesh = readPolyMesh(run / "constant" / "polyMesh");
+    const MeshGeometry geo = meshGeometry(mesh);
+    bool moving = false;
+    for (const auto& t : picked) moving = moving || fs::exists(run / t / "polyMesh" / "points");
+    const auto sceneJson = nlohmann::json::parse(readFile(run / "scene.json"));
+    nlohmann::json solverProvenance;
+    if (fs::exists(run / "result.json")) {
+        const auto r = nlohmann::json::parse(readFile(run / "result.json"));
+        for (const char* k : {"mixload_version", "git_commit", "openfoam_version"})
+            if (r.contains(k)) solverProvenance[k] = r[k];
+    }
+
+    const fs::path tmp = out.string() + ".tmp." + std::to_string(::getpid());
+    std::vector<std::pair<std::string, int>> written;
+    std::vector<double> timeValues;
+    try {
+        auto file = h5::createFile(tmp);
+        h5::attr(file, "schema", std::string(kSchema));
+        h5::attr(file, "schema_version", static_cast<long long>(kSnapshotSchemaVersion));
+        h5::attr(file, "mixload_version", std::string(kVersion));
+        h5::attr(file, "git_commit", std::string(kGitCommit));
+        h5::attr(file, "openfoam_version", std::string(MIXLOAD_OPENFOAM_VERSION));
+        h5::attr(file, "scene_hash", sceneJson.value("hash", std::string()));
+        h5::attr(file, "scene_kind", sceneJson["scene"].value("scene", std::string()));
+        h5::attr(file, "created_utc", utcNow());
+        h5::attr(file, "run_dir", fs::absolute(run).string());
+        h5::attr(file, "solver_provenance", solverProvenance.dump());
+        h5::attr(file, "field_precision", std::string(e.float64 ? "float64" : "float32"));
+        h5::attr(file, "mesh_moves", static_cast<long long>(moving));
+
+        {
+            auto params = h5::createGroup(file, "params");
+            writeParams(params, sceneJson["scene"], "");
+            h5::attr(params, "scene_json", sceneJson.dump());
+        }
+        {
+            auto g = h5::createGroup(file, "mesh");
+            const hsize_t nP = mesh.points.size(), nF = mesh.nFaces(), nC = mesh.nCells;
+            h5::write(g, "points", {nP, 3}, flatten(mesh.points));
+            h5::write(g, "face_offsets", mesh.faceOffsets);
+            h5::write(g, "face_points", mesh.facePoints);
+            h5::write(g, "owner", mesh.owner);
+            h5::write(g, "neighbour", mesh.neighbour);
+            h5::write(g, "face_centres", {nF, 3}, flatten(geo.faceCentres));
+            h5::write(g, "face_areas", {nF, 3}, flatten(geo.faceAreas));
+            h5::write(g, "cell_centres", {nC, 3}, flatten(geo.cellCentres));
+            h5::write(g, "cell_volumes", {nC}, geo.cellVolumes);
+            auto patches = h5::createGroup(g, "patches");
+            for (const auto& p : mesh.patches) {
+                auto pg = h5::createGroup(patches, p.name);
+                h5::attr(pg, "type", p.type);
+                h5::attr(pg, "start_face", static_cast<long long>(p.start));
+                h5::attr(pg, "n_faces", static_cast<long long>(p.size));
+            }
+        }
+        for (const auto& t : picked) timeValues.push_back(std::stod(t));
+        {
+            auto fg = h5::createGroup(file, "fields");
+            const hsize_t nT = picked.size(), nC = mesh.nCells;
+            const auto stored = e.float64 ? h5::Stored::Float64 : h5::Stored::Float32;
+            for (const auto& f : names) {
+                const int comps = readInternalField(run / picked.back() / f, mesh.nCells).components;
+                auto d = h5::createDataset(fg, f, comps == 1 ? std::vector<hsize_t>{nT, nC}
+                                                             : std::vector<hsize_t>{nT, nC, 3},
+                                           stored, true);
+                h5::attr(d, "units", unitOf(f));
+                h5::attr(d, "source", std::string("OpenFOAM <time>/") + f + ", internal field");
+                for (size_t i = 0; i < picked.size(); ++i) {
+                    const auto v = readInternalField(run / picked[i] / f, mesh.nCells);
+                    if (v.components != comps) throw std::runtime_error(f + " changes type over time");
+                    h5::writeRow(d, i, v.values);
+                }
+                written.emplace_back(f, comps);
+            }
+            if (moving) {
+                auto d = h5::createDataset(fg, "cell_centres", {nT, nC, 3}, h5::Stored::Float64, true);
+                h5::attr(d, "units", std::string("m"));
+                for (size_t i = 0; i < picked.size(); ++i) {
+                    const fs::path pts = run / picked[i] / "polyMesh" / "points";
+                    const auto g = fs::exists(pts) ? meshGeometry(mesh, readPoints(pts)) : geo;
+                    h5::writeRow(d, i, flatten(g.cellCentres));
+                }
+            }
+        }
+        h5::write(file, "time", {timeValues.size()}, timeValues);
+        {
+            auto hg = h5::createGroup(file, "history");
+            for (const auto& [name, h] : readHistories(run)) {
+                const hsize_t rows = h.rows.size(), cols = rows ? h.rows[0].size() : 0;
+                std::vector<double> flat;
+                for (const auto& r : h.rows) flat.insert(flat.end(), r.begin(), r.end());
+                if (rows == 0) continue;
+                h5::write(hg, name, {rows, cols}, flat);
+                auto d = h5::openDataset(hg, name);
+                h5::attr(d, "columns", h.columns);
+                // DESIGN.md's /loading: the mixer's loading history at the top level.
+                if (name == "loading")
+                    H5Lcreate_hard(hg, name.c_str(), file, "/loading", H5P_DEFAULT, H5P_DEFAULT);
+            }
+        }
+        H5Fflush(file, H5F_SCOPE_GLOBAL);
+    } catch (...) {
+        fs::remove(tmp);
+        throw;
+    }
+    fs::rename(tmp, out);
+    fs::path xdmf = out;
+    xdmf.replace_extension(".xmf");
+    writeXdmf(xdmf, out.filename().string(), timeValues, mesh.nCells, written, e.float64, moving);
+
+    nlohmann::json fieldNames = nlohmann::json::array();
+    for (const auto& w : written) fieldNames.push_back(w.first);
+    return {{"file", fs::absolute(out).string()},
+            {"xdmf", fs::absolute(xdmf).string()},
+            {"times", timeValues.size()},
+            {"skipped_times", skipped},
+            {"cells", mesh.nCells},
+            {"fields", fieldNames},
+            {"field_precision", e.float64 ? "float64" : "float32"},
+            {"mesh_moves", moving},
+            {"bytes", fs::file_size(out)}};
+}
+
+namespace {
+
+std::vector<std::string> members(hid_t group) {
+    H5G_info_t info;
+    if (H5Gget_info(group, &info) < 0) throw std::runtime_error("HDF5: cannot list a group");
+    std::vector<std::string> out;
+    for (hsize_t i = 0; i < info.nlinks; ++i) {
+        const ssize_t len = H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0,
+                                               H5P_DEFAULT);
+        std::string name(static_cast<size_t>(std::max<ssize_t>(len, 0)), '\0');
+        H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size() + 1,
+                           H5P_DEFAULT);
+        out.push_back(name);
+    }
+    return out;
+}
+
+nlohmann::json attrsJson(hid_t obj) {
+    nlohmann::json j = nlohmann::json::object();
+    for (const auto& a : h5::attrs(obj)) j[a.name] = a.isString ? nlohmann::json(a.text) : nlohmann::json(a.number);
+    return j;
+}
+
+nlohmann::json datasetJson(hid_t loc, const std::string& path, bool verify) {
+    const auto d = h5::openDataset(loc, path);
+    const h5::Handle type(H5Dget_type(d), H5Tclose);
+    const size_t size = H5Tget_size(type);
+    const char* kind = H5Tget_class(type) == H5T_INTEGER ? "int" : "float";
+    hsize_t n = 1;
+    const auto dims = h5::shape(d);
+    for (auto x : dims) n *= x;
+    if (verify) (void)h5::readDoubles(loc, path);
+    return {{"path", path},
+            {"shape", dims},
+            {"type", std::string(kind) + std::to_string(8 * size)},
+            {"raw_bytes", n * size},
+            {"stored_bytes", H5Dget_storage_size(d)}};
+}
+
+h5::Handle openSnapshots(const fs::path& file) {
+    try {
+        auto f = h5::openFile(file);
+        const auto a = attrsJson(f);
+        if (a.value("schema", std::string()) != kSchema)
+            throw std::runtime_error("not a mixload snapshot file (no schema = " + std::string(kSchema) + ")");
+        const int v = static_cast<int>(a.value("schema_version", 0.0));
+        if (v != kSnapshotSchemaVersion)
+            throw std::runtime_error("snapshot schema version " + std::to_string(v) + ", this mixload reads " +
+                                     std::to_string(kSnapshotSchemaVersion));
+        for (const char* need : {"/time", "/mesh/cell_volumes", "/fields", "/params"})
+            if (!h5::exists(f, need)) throw std::runtime_error(std::string("missing ") + need);
+        return f;
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::exception& ex) {
+        const std::string what = ex.what();
+        throw InputError(what.rfind(file.string(), 0) == 0 ? what : file.string() + ": " + what);
+    }
+}
+
+}  // namespace
+
+nlohmann::json snapshotInfo(const fs::path& file, bool verify) {
+    auto f = openSnapshots(file);
+    try {
+        nlohmann::json j;
+        j["file"] = fs::absolute(file).string();
+        j["bytes"] = fs::file_size(file);
+        j["provenance"] = attrsJson(f);
+        {
+            auto p = h5::openGroup(f, "params");
+            auto params = attrsJson(p);
+            params.erase("scene_json");
+            j["params"] = params;
+        }
+        const auto t = h5::readDoubles(f, "time");
+        j["times"] = {{"count", t.size()},
+                      {"first", t.empty() ? 0.0 : t.front()},
+                      {"last", t.empty() ? 0.0 : t.back()}};
+        j["cells"] = h5::shape(h5::openDataset(f, "/mesh/cell_volumes"))[0];
+        j["faces"] = h5::shape(h5::openDataset(f, "/mesh/owner"))[0];
+        nlohmann::json ds = nlohmann::json::array();
+        for (const char* g : {"mesh", "fields", "history"}) {
+            if (!h5::exists(f, g)) continue;
+            auto grp = h5::openGroup(f, g);
+            for (const auto& m : members(grp)) {
+                const std::string path = std::string("/") + g + "/" + m;
+                H5O_info_t oi;
+                if (H5Oget_info_by_name2(f, path.c_str(), &oi, H5O_INFO_BASIC, H5P_DEFAULT) < 0 ||
+                    oi.type != H5O_TYPE_DATASET)
+                    continue;
+                ds.push_back(datasetJson(f, path, verify));
+            }
+        }
+        ds.push_back(datasetJson(f, "/time", verify));
+        j["datasets"] = ds;
+        j["verified"] = verify;
+        return j;
+    } catch (const std::exception& ex) {
+        throw InputError(file.string() + ": " + ex.what());
+    }
+}
+
+std::vector<double> readSnapshotField(const fs::path& file, const std::string& field, size_t timeIndex) {
+    auto f = openSnapshots(file);
+    const std::string path = "/fields/" + foamName(field);
+    if (!h5::exists(f, path)) throw InputError("field", field, "a field stored in " + file.string());
+    try {
+        return h5::readRow(f, path, timeIndex);
+    } catch (const std::exception& ex) {
+        throw InputError(file.string() + ": " + ex.what());
+    }
+}
+
+}  // namespace mixload::post
