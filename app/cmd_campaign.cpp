@@ -24,6 +24,7 @@
 #include "common/progress.hpp"
 #include "doe/designs.hpp"
 #include "doe/parameter_space.hpp"
+#include "app/campaign_table.hpp"
 #include "mixload_version.hpp"
 #include "run/collapse_job.hpp"
 #include "run/foam_runner.hpp"
@@ -399,6 +400,46 @@ int runCampaign(const CampaignCmd& o) {
 }
 
 }  // namespace
+
+namespace {
+experiments::CampaignInfo openByName(const std::string& name, const std::string& dir,
+                                     std::unique_ptr<experiments::Ledger>& l) {
+    CampaignCmd o;
+    o.name = name;
+    o.dir = dir;
+    return openCampaign(o, l);
+}
+}  // namespace
+
+surrogates::Table campaignTable(const std::string& name, const std::string& dir) {
+    std::unique_ptr<experiments::Ledger> l;
+    const auto c = openByName(name, dir, l);
+    if (c.scene != "mixer") throw InputError("campaign", name, "a mixer campaign (surrogates model the loading)");
+    surrogates::Table t;
+    for (const auto& r : l->runs(name)) {
+        if (r.status != "done" || !r.result.value("steady", false) || !r.result.contains("loading_kg")) {
+            ++t.skipped;
+            continue;
+        }
+        // Every input as the run saw it: the base scene with the point's parameters applied.
+        const auto s = mixerSceneFor(c.sceneJson, r.params);
+        surrogates::Row row;
+        row.id = r.params.value("scene_hash", std::to_string(r.index));
+        row.x = {s.material.muS, s.material.muD, s.material.I0, s.material.grainDiameter,
+                 s.material.bulkDensity(), s.feedKgH, s.rpm};
+        row.m = r.result["loading_kg"].get<double>();
+        t.rows.push_back(row);
+    }
+    return t;
+}
+
+nlohmann::json campaignProvenance(const std::string& name, const std::string& dir) {
+    std::unique_ptr<experiments::Ledger> l;
+    const auto c = openByName(name, dir, l);
+    return {{"campaign", name}, {"ledger", (fs::path(dir) / name / "ledger.sqlite").string()}, {"design", c.design}, {"seed", c.seed},
+            {"base", c.sceneJson}, {"campaign_created", c.created}, {"campaign_mixload_version", c.mixloadVersion},
+            {"campaign_git_commit", c.gitCommit}};
+}
 
 void addCampaign(CLI::App& app, Action& action) {
     auto* camp = app.add_subcommand("campaign", "Offline full-CFD campaigns over a design of experiments (SQLite ledger)");

@@ -14,4 +14,6 @@ void addStudy(CLI::App& app, Action& action);
 void addCampaign(CLI::App& app, Action& action);
 void addMixer(CLI::App& app, Action& action);
 void addSnapshots(CLI::App& app, Action& action);
+void addSurrogate(CLI::App& app, Action& action);  // also `check`
+void addPredict(CLI::App& app, Action& action);    // also `whatif`
 }  // namespace mixload::app

@@ -1,0 +1,17 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// A mixer campaign's finished, steady runs as surrogate training data.
+#pragma once
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "table.hpp"
+
+namespace mixload::app {
+
+// Throws InputError if the campaign does not exist or is not a mixer campaign.
+surrogates::Table campaignTable(const std::string& name, const std::string& dir);
+// Campaign name, ledger path, design, base scene and the code that created it.
+nlohmann::json campaignProvenance(const std::string& name, const std::string& dir);
+
+}  // namespace mixload::app

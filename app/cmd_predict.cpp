@@ -1,0 +1,280 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// mixload predict and mixload whatif: the users' questions answered from a fitted surrogate.
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include <toml++/toml.h>
+
+#include "app/commands.hpp"
+#include "app/point_options.hpp"
+#include "common/atomic_file.hpp"
+#include "common/input_error.hpp"
+#include "model.hpp"
+
+namespace mixload::app {
+
+namespace {
+
+using surrogates::kInputs;
+using surrogates::kInputSpecs;
+using surrogates::Point;
+
+void warnOutside(const surrogates::Surrogate& m, const Point& x, const std::string& label = "") {
+    std::cout.flush();  // keep the warning after what was already printed
+    for (const auto& w : m.outsideBox(x))
+        std::cerr << "mixload: warning: " << label << "outside the training box: " << w << '\n';
+}
+
+nlohmann::json predictionJson(const surrogates::Surrogate& m, const Point& x, const surrogates::Prediction& p,
+                              const std::string& model) {
+    nlohmann::json j{{"loading_kg", p.m},
+                     {"ci95_kg", std::isnan(p.lo) ? nlohmann::json() : nlohmann::json{p.lo, p.hi}},
+                     {"in_training_box", p.inBox},
+                     {"model", model},
+                     {"kind", m.kind()}};
+    if (!p.inBox) j["outside"] = m.outsideBox(x);
+    return j;
+}
+
+struct PredictCmd {
+    std::string model, batch, output;
+    PointOptions point;
+    bool json = false;
+};
+
+int predictBatch(const PredictCmd& o, const surrogates::Surrogate& m) {
+    if (o.output.empty()) throw InputError("output", "(missing)", "-o OUT.csv with --batch");
+    const auto points = surrogates::readInputs(o.batch);
+    for (size_t r = 0; r < points.size(); ++r) {
+        try {
+            surrogates::requirePhysical(points[r]);
+        } catch (const InputError& e) {
+            throw InputError(o.batch + ": row " + std::to_string(r + 1) + ": " + e.what());
+        }
+    }
+    auto ws = m.makeWorkspace();
+    std::ostringstream os;
+    os << std::setprecision(17);
+    for (const auto& s : kInputSpecs) os << s.name << ',';
+    os << "loading_kg,ci95_lo_kg,ci95_hi_kg,in_training_box\n";
+    size_t outside = 0;
+    for (const auto& x : points) {
+        const auto p = m.predict(x, ws);
+        for (double v : x) os << v << ',';
+        os << p.m << ',' << p.lo << ',' << p.hi << ',' << (p.inBox ? "true" : "false") << '\n';
+        outside += !p.inBox;
+    }
+    writeFileAtomic(o.output, os.str());
+    if (outside) std::cerr << "mixload: warning: " << outside << " of " << points.size() << " points lie outside the training box (in_training_box = false)\n";
+    if (o.json) std::cout << nlohmann::json{{"rows", points.size()}, {"outside_training_box", outside}, {"output", o.output}}.dump(2) << '\n';
+    else std::cout << points.size() << " predictions written to " << o.output << '\n';
+    return 0;
+}
+
+int predict(const PredictCmd& o) {
+    const std::string path = o.model.empty() ? defaultModelPath() : o.model;
+    if (!o.batch.empty()) return predictBatch(o, surrogates::Surrogate::load(path));
+    const Point x = o.point.point();  // validated before the model is even read
+    const auto m = surrogates::Surrogate::load(path);
+    auto ws = m.makeWorkspace();
+    const auto p = m.predict(x, ws);
+    warnOutside(m, x);
+    if (o.json) {
+        std::cout << predictionJson(m, x, p, path).dump(2) << '\n';
+        return 0;
+    }
+    std::cout << std::setprecision(4) << "M = " << p.m << " kg";
+    if (!std::isnan(p.lo)) std::cout << " (95% interval " << p.lo << " .. " << p.hi << " kg)";
+    std::cout << "  [" << m.kind() << ", " << path << "]\n";
+    return 0;
+}
+
+// --- whatif ------------------------------------------------------------------------------------
+
+constexpr std::array<size_t, 5> kMaterial{0, 1, 2, 3, 4};  // mu_s, mu_d, i0, d, rho
+
+struct WhatifCmd {
+    std::string model, baseFile, newFile;
+    PointOptions base, changed;
+    std::vector<std::string> changes, at;
+    std::optional<double> feed, rpm;
+    bool json = false;
+};
+
+// A formulation: the five material inputs (operating point slots unused).
+Point formulationFromToml(const std::string& file) {
+    toml::table t;
+    try {
+        t = toml::parse_file(file);
+    } catch (const toml::parse_error& e) {
+        throw InputError(file + ": " + std::string(e.description()) + " at line " +
+                         std::to_string(e.source().begin.line));
+    }
+    Point x{};
+    for (size_t k : kMaterial) {
+        const auto v = t[kInputSpecs[k].name].value<double>();
+        if (!v) throw InputError(file + ": key '" + kInputSpecs[k].name + "' (" + kInputSpecs[k].unit + ") is missing or not a number");
+        x[k] = *v;
+    }
+    for (const auto& [key, _] : t)
+        if (std::string(key.str()) != "name" &&
+            std::none_of(kMaterial.begin(), kMaterial.end(), [&](size_t k) { return key.str() == kInputSpecs[k].name; }))
+            throw InputError(file + ": unknown key '" + std::string(key.str()) + "' (allowed: mu_s, mu_d, i0, d, rho, name)");
+    return x;
+}
+
+Point formulation(const std::string& file, const PointOptions& flags, const std::string& prefix, const Point* from) {
+    Point x{};
+    if (!file.empty()) x = formulationFromToml(file);
+    else if (from) x = *from;
+    for (size_t k : kMaterial) {
+        if (flags.v[k]) x[k] = *flags.v[k];
+        else if (file.empty() && !from)
+            throw InputError(std::string("--") + prefix + (kInputSpecs[k].flag + 2), "(missing)",
+                             std::string("a value in ") + kInputSpecs[k].unit + " (or --base FILE.toml)");
+    }
+    return x;
+}
+
+// "rho=+50%" or "mu_s=-10%": a relative change of one material input.
+void applyChange(Point& x, const std::string& c) {
+    const auto eq = c.find('=');
+    const std::string name = c.substr(0, eq);
+    std::string v = eq == std::string::npos ? "" : c.substr(eq + 1);
+    size_t k = kInputs;
+    for (size_t i : kMaterial)
+        if (name == kInputSpecs[i].name) k = i;
+    if (k == kInputs || v.empty() || v.back() != '%')
+        throw InputError("change", c, "NAME=+X% or NAME=-X% with NAME one of mu_s, mu_d, i0, d, rho");
+    v.pop_back();
+    try {
+        x[k] *= 1 + std::stod(v) / 100;
+    } catch (const std::exception&) {
+        throw InputError("change", c, "NAME=+X% or NAME=-X% with NAME one of mu_s, mu_d, i0, d, rho");
+    }
+}
+
+std::vector<std::pair<double, double>> operatingPoints(const WhatifCmd& o) {
+    std::vector<std::pair<double, double>> pts;
+    for (const auto& a : o.at) {
+        const auto colon = a.find(':');
+        try {
+            if (colon == std::string::npos) throw std::invalid_argument(a);
+            pts.emplace_back(std::stod(a.substr(0, colon)), std::stod(a.substr(colon + 1)));
+        } catch (const std::exception&) {
+            throw InputError("at", a, "FEED_KG_H:RPM, e.g. 5:39");
+        }
+    }
+    if (o.feed || o.rpm) {
+        if (!o.feed || !o.rpm) throw InputError(o.feed ? "rpm" : "feed-kg-h", "(missing)", "both --feed-kg-h and --rpm");
+        pts.emplace_back(*o.feed, *o.rpm);
+    }
+    if (pts.empty()) throw InputError("operating point", "(missing)", "--feed-kg-h F --rpm R, or --at F:R (repeatable)");
+    return pts;
+}
+
+// Half-width of the 95% interval as a standard deviation (log models give skewed intervals: use
+// the mean half-width).
+double sdOf(const surrogates::Prediction& p) { return std::isnan(p.lo) ? NAN : (p.hi - p.lo) / (2 * 1.959963984540054); }
+
+int whatif(const WhatifCmd& o) {
+    const Point a = formulation(o.baseFile, o.base, "", nullptr);
+    Point b = formulation(o.newFile, o.changed, "new-", o.newFile.empty() ? &a : nullptr);
+    for (const auto& c : o.changes) applyChange(b, c);
+    const auto pts = operatingPoints(o);
+    const std::string path = o.model.empty() ? defaultModelPath() : o.model;
+    const auto m = surrogates::Surrogate::load(path);
+    auto ws = m.makeWorkspace();
+    nlohmann::json out{{"model", path}, {"kind", m.kind()}, {"points", nlohmann::json::array()}};
+    for (size_t k : kMaterial) {
+        out["base"][kInputSpecs[k].name] = a[k];
+        out["new"][kInputSpecs[k].name] = b[k];
+    }
+    for (const auto& [feed, rpm] : pts) {
+        Point xa = a, xb = b;
+        xa[5] = xb[5] = feed;
+        xa[6] = xb[6] = rpm;
+        surrogates::requirePhysical(xa);
+        surrogates::requirePhysical(xb);
+        warnOutside(m, xa, "base: ");
+        warnOutside(m, xb, "new: ");
+        const auto pa = m.predict(xa, ws), pb = m.predict(xb, ws);
+        // Errors of the two predictions taken as independent: for nearby formulations they are
+        // positively correlated, so this overstates the uncertainty of the difference.
+        const double dm = pb.m - pa.m, sd = std::hypot(sdOf(pa), sdOf(pb));
+        nlohmann::json attribution = nlohmann::json::array();
+        double sum = 0;
+        for (size_t k : kMaterial) {
+            if (xa[k] == xb[k]) continue;
+            Point xk = xa;
+            xk[k] = xb[k];
+            const double dk = m.predict(xk, ws).m - pa.m;  // this input alone, from the base
+            sum += dk;
+            attribution.push_back({{"input", kInputSpecs[k].name}, {"from", xa[k]}, {"to", xb[k]}, {"delta_kg", dk}});
+        }
+        out["points"].push_back({{"feed_kg_h", feed},
+                                 {"rpm", rpm},
+                                 {"base", predictionJson(m, xa, pa, path)},
+                                 {"new", predictionJson(m, xb, pb, path)},
+                                 {"delta_kg", dm},
+                                 {"delta_rel", dm / pa.m},
+                                 {"delta_ci95_kg", std::isnan(sd) ? nlohmann::json() : nlohmann::json{dm - 1.96 * sd, dm + 1.96 * sd}},
+                                 {"attribution", attribution},
+                                 {"interaction_kg", dm - sum}});
+    }
+    if (o.json) {
+        std::cout << out.dump(2) << '\n';
+        return 0;
+    }
+    std::cout << std::setprecision(4) << "what-if with " << path << " (" << m.kind() << ")\n  base:";
+    for (size_t k : kMaterial) std::cout << ' ' << kInputSpecs[k].name << '=' << a[k];
+    std::cout << "\n  new: ";
+    for (size_t k : kMaterial) std::cout << ' ' << kInputSpecs[k].name << '=' << b[k];
+    std::cout << '\n';
+    for (const auto& p : out["points"]) {
+        std::cout << "  at " << p["feed_kg_h"].get<double>() << " kg/h, " << p["rpm"].get<double>()
+                  << " rpm: M " << p["base"]["loading_kg"].get<double>() << " -> " << p["new"]["loading_kg"].get<double>()
+                  << " kg, dM = " << p["delta_kg"].get<double>() << " kg (" << std::showpos
+                  << 100 * p["delta_rel"].get<double>() << std::noshowpos << "%)";
+        if (!p["delta_ci95_kg"].is_null())
+            std::cout << ", 95% interval " << p["delta_ci95_kg"][0].get<double>() << " .. " << p["delta_ci95_kg"][1].get<double>() << " kg";
+        std::cout << "\n    one input at a time from the base:";
+        for (const auto& at : p["attribution"])
+            std::cout << ' ' << at["input"].get<std::string>() << ' ' << std::showpos << at["delta_kg"].get<double>()
+                      << std::noshowpos << " kg;";
+        std::cout << " interaction " << std::showpos << p["interaction_kg"].get<double>() << std::noshowpos << " kg\n";
+    }
+    return 0;
+}
+
+}  // namespace
+
+void addPredict(CLI::App& app, Action& action) {
+    auto* cmd = app.add_subcommand("predict", "Predict the mixer loading M [kg] from a surrogate (microseconds). Inputs in SI units: --d in metres, --rho bulk density in kg/m3");
+    auto o = std::make_shared<PredictCmd>();
+    cmd->add_option("--model", o->model, "Model file (default: the shipped kriging model, data/models/)");
+    o->point.add(cmd);
+    cmd->add_option("--batch", o->batch, "CSV of points (columns mu_s, mu_d or delta_mu, i0, d, rho, feed_kg_h, rpm)");
+    cmd->add_option("-o,--output", o->output, "CSV to write with --batch");
+    cmd->add_flag("--json", o->json, "Print JSON: loading_kg, ci95_kg, in_training_box, model");
+    cmd->callback([&action, o] { action = [o] { return predict(*o); }; });
+
+    auto* w = app.add_subcommand("whatif", "Compare two formulations at operating points: M for each, dM with its uncertainty, and which inputs drive dM (SI units)");
+    auto wo = std::make_shared<WhatifCmd>();
+    w->add_option("--model", wo->model, "Model file (default: the shipped kriging model)");
+    w->add_option("--base", wo->baseFile, "Base formulation TOML (mu_s, mu_d, i0, d [m], rho [kg/m3])");
+    wo->base.add(w, "", "base: ", true);
+    w->add_option("--new", wo->newFile, "New formulation TOML; default: the base with --new-* and --change applied");
+    wo->changed.add(w, "new-", "new: ", true);
+    w->add_option("--change", wo->changes, "Relative change of the new formulation, e.g. rho=+50% or mu_s=-10% (repeatable)");
+    w->add_option("--feed-kg-h", wo->feed, "Operating point: feed [kg/h]");
+    w->add_option("--rpm", wo->rpm, "Operating point: impeller speed [rpm]");
+    w->add_option("--at", wo->at, "More operating points as FEED_KG_H:RPM (repeatable)");
+    w->add_flag("--json", wo->json, "Print JSON");
+    w->callback([&action, wo] { action = [wo] { return whatif(*wo); }; });
+}
+
+}  // namespace mixload::app

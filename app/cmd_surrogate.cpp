@@ -1,0 +1,265 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// mixload surrogate fit|info and mixload check.
+#include <chrono>
+#include <ctime>
+#include <iomanip>
+#include <iostream>
+
+#include "app/campaign_table.hpp"
+#include "app/commands.hpp"
+#include "app/point_options.hpp"
+#include "check.hpp"
+#include "common/input_error.hpp"
+#include "mixload_version.hpp"
+#include "model.hpp"
+
+namespace mixload::app {
+
+namespace {
+
+struct SurrogateCmd {
+    std::string campaign, dir = "runs/campaigns", table, kind = "kriging", output, model, transform = "auto",
+                kernel = "matern52", trend = "constant";
+    int holdout = 0, starts = 20;
+    unsigned seed = 1;
+    bool noSelect = false, json = false, noRecord = false;
+    std::optional<double> threshold;
+};
+
+std::string utcNow() {
+    const std::time_t t = std::time(nullptr);
+    char buf[32];
+    std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+    return buf;
+}
+
+// Training or checking data: a campaign's ledger or a CSV table, exactly one of them.
+surrogates::Table loadRuns(const SurrogateCmd& o, nlohmann::json& source) {
+    if (o.campaign.empty() == o.table.empty())
+        throw InputError("--campaign / --table", "(both or neither)", "exactly one of them");
+    if (!o.campaign.empty()) {
+        source = campaignProvenance(o.campaign, o.dir);
+        return campaignTable(o.campaign, o.dir);
+    }
+    source = {{"table", o.table}};
+    return surrogates::readTable(o.table);
+}
+
+std::string pct(const nlohmann::json& v) {
+    if (v.is_null()) return "n/a";
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(2) << 100 * v.get<double>() << "%";
+    return os.str();
+}
+
+int fit(const SurrogateCmd& o) {
+    if (o.output.empty()) throw InputError("output", "(missing)", "-o MODEL.json");
+    requireRange("holdout", o.holdout, 0, 1e6);
+    surrogates::FitOptions f;
+    f.kind = o.kind;
+    f.transform = o.transform;
+    f.select = !o.noSelect;
+    try {
+        f.kriging.kernel = surrogates::kernelFromString(o.kernel == "se" ? "squared-exponential" : o.kernel);
+        f.kriging.trend = surrogates::trendFromString(o.trend);
+    } catch (const std::invalid_argument&) {
+        throw InputError("kernel/trend", o.kernel + "/" + o.trend, "matern52|se and constant|linear");
+    }
+    requireRange("starts", o.starts, 1, 1000);
+    f.kriging.starts = o.starts;
+    f.kriging.seed = o.seed;
+    nlohmann::json source;
+    auto runs = loadRuns(o, source);
+    if (static_cast<size_t>(o.holdout) >= runs.rows.size())
+        throw InputError("holdout", std::to_string(o.holdout),
+                         "fewer than the " + std::to_string(runs.rows.size()) + " usable runs");
+    // The last runs of the design are held out: a design's order is random, so they are a fair
+    // sample, and `mixload check` has runs the model never saw.
+    std::vector<surrogates::Row> train(runs.rows.begin(), runs.rows.end() - o.holdout);
+    nlohmann::json held = nlohmann::json::array();
+    for (auto it = runs.rows.end() - o.holdout; it != runs.rows.end(); ++it) held.push_back(it->id);
+    const nlohmann::json provenance{{"source", source},
+                                    {"runs_usable", runs.rows.size()},
+                                    {"runs_skipped", runs.skipped},
+                                    {"holdout_ids", held},
+                                    {"options", {{"kind", o.kind}, {"transform", o.transform}, {"select", !o.noSelect},
+                                                 {"kernel", o.kernel}, {"trend", o.trend}, {"starts", o.starts},
+                                                 {"seed", o.seed}}},
+                                    {"mixload_version", kVersion},
+                                    {"git_commit", kGitCommit},
+                                    {"created_utc", utcNow()},
+                                    {"command", "mixload surrogate fit " + (o.campaign.empty() ? "--table " + o.table : "--campaign " + o.campaign) +
+                                                    " --kind " + o.kind + " --holdout " + std::to_string(o.holdout)}};
+    const auto t0 = std::chrono::steady_clock::now();
+    auto model = surrogates::Surrogate::fit(train, f, provenance);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    model.save(o.output);
+    const auto& v = model.validation();
+    nlohmann::json out{{"model", o.output},        {"kind", o.kind},      {"n_train", train.size()},
+                       {"n_holdout", o.holdout},   {"transform", v["transform"]}, {"loo", v},
+                       {"warnings", model.warnings()}, {"fit_seconds", seconds}};
+    if (o.json) {
+        std::cout << out.dump(2) << '\n';
+        return 0;
+    }
+    std::cout << o.kind << " model of M on " << train.size() << " runs (" << o.holdout << " held out, "
+              << runs.skipped << " not finished or not steady), " << v["transform"].get<std::string>() << "\n  leave-one-out: mean "
+              << pct(v["mean_rel_error"]) << ", max " << pct(v["max_rel_error"]) << " relative error, 95% coverage "
+              << pct(v["coverage95"]) << "\n  fitted in " << std::setprecision(3) << seconds << " s, written to " << o.output
+              << '\n';
+    for (const auto& w : model.warnings()) std::cout << "  warning: " << w << '\n';
+    return 0;
+}
+
+int info(const SurrogateCmd& o) {
+    const auto m = surrogates::Surrogate::load(o.model);
+    auto j = m.toJson();
+    nlohmann::json out{{"model", o.model},      {"kind", j["kind"]},          {"inputs", j["inputs"]},
+                       {"output", j["output"]}, {"validation", j["validation"]}, {"provenance", j["provenance"]},
+                       {"checks", j["checks"]}, {"warnings", m.warnings()},   {"n_train", m.trainingIds().size()}};
+    if (m.kind() == "rsm") {
+        const auto& mod = j["model"];
+        nlohmann::json terms = nlohmann::json::array();
+        std::vector<std::string> names;
+        for (const auto& s : surrogates::kInputSpecs) names.push_back(s.name);
+        for (size_t k = 0; k < mod["terms"].size(); ++k) {
+            const surrogates::Term t{mod["terms"][k][0].get<int>(), mod["terms"][k][1].get<int>()};
+            terms.push_back({{"term", t.name(names)},
+                             {"coefficient", mod["coefficients"][k]},
+                             {"standard_error", mod["standard_errors"][k]}});
+        }
+        out["coefficients"] = terms;
+        out["press"] = mod["press"];
+    } else {
+        const auto& mod = j["model"];
+        out["hyperparameters"] = {{"kernel", mod.value("kernel", "")},
+                                  {"trend", mod.value("trend", "")},
+                                  {"length_scales", mod.value("length_scales", nlohmann::json())},
+                                  {"nugget", mod.value("nugget", nlohmann::json())},
+                                  {"process_variance", mod.value("process_variance", nlohmann::json())}};
+    }
+    if (o.json) {
+        std::cout << out.dump(2) << '\n';
+        return 0;
+    }
+    const auto& v = out["validation"];
+    std::cout << o.model << ": " << m.kind() << " model of M [kg], " << v.value("transform", "") << ", trained on "
+              << m.trainingIds().size() << " runs\n  created " << out["provenance"].value("created_utc", "") << " by mixload "
+              << out["provenance"].value("mixload_version", "") << " (" << out["provenance"].value("git_commit", "") << ")\n"
+              << "  source " << out["provenance"]["source"].dump() << "\n  training box:\n";
+    for (const auto& in : out["inputs"])
+        std::cout << "    " << std::left << std::setw(10) << in["name"].get<std::string>() << std::right << std::setw(12)
+                  << in["min"].get<double>() << " .. " << std::setw(12) << in["max"].get<double>() << " "
+                  << in["unit"].get<std::string>() << (in["log"].get<bool>() ? "  (log)" : "") << '\n';
+    std::cout << "  leave-one-out: mean " << pct(v["mean_rel_error"]) << ", max " << pct(v["max_rel_error"])
+              << ", 95% coverage " << pct(v["coverage95"]) << '\n';
+    if (out.contains("coefficients")) {
+        std::cout << "  terms (scaled inputs in [-1, 1]; coefficient, standard error):\n";
+        for (const auto& t : out["coefficients"])
+            std::cout << "    " << std::left << std::setw(20) << t["term"].get<std::string>() << std::right << std::setw(14)
+                      << t["coefficient"].get<double>() << std::setw(14) << t["standard_error"].get<double>() << '\n';
+    } else {
+        std::cout << "  hyperparameters " << out["hyperparameters"].dump() << '\n';
+    }
+    std::cout << "  checks recorded: " << out["checks"].size() << '\n';
+    for (const auto& w : out["warnings"]) std::cout << "  warning: " << w.get<std::string>() << '\n';
+    return 0;
+}
+
+}  // namespace
+
+int runCheck(const std::string& modelPath, const std::string& campaign, const std::string& dir, const std::string& table,
+             std::optional<double> threshold, bool record, bool json) {
+    auto m = surrogates::Surrogate::load(modelPath);
+    SurrogateCmd o;
+    o.campaign = campaign;
+    o.dir = dir;
+    o.table = table;
+    if (o.campaign.empty() && o.table.empty()) {
+        // The campaign the model was trained on.
+        const auto& src = m.provenance().value("source", nlohmann::json::object());
+        if (!src.contains("campaign")) throw InputError("--campaign / --table", "(neither)", "the runs to check against");
+        o.campaign = src["campaign"];
+        const std::string ledger = src.value("ledger", std::string());
+        const auto cut = ledger.rfind("/" + o.campaign + "/ledger.sqlite");
+        if (cut != std::string::npos) o.dir = ledger.substr(0, cut);
+    }
+    nlohmann::json source;
+    const auto runs = loadRuns(o, source);
+    auto r = surrogates::checkModel(m, runs);
+    r["model"] = modelPath;
+    r["source"] = source;
+    r["threshold"] = threshold ? nlohmann::json(*threshold) : nlohmann::json();
+    if (record) {
+        m.checks().push_back({{"date_utc", utcNow()},
+                              {"source", source},
+                              {"n_holdout", r["n_holdout"]},
+                              {"mean_rel_error", r["mean_rel_error"]},
+                              {"max_rel_error", r["max_rel_error"]},
+                              {"coverage95", r["coverage95"]},
+                              {"loo", r["loo"]},
+                              {"mixload_version", kVersion},
+                              {"git_commit", kGitCommit}});
+        m.save(modelPath);
+    }
+    const bool failed = threshold && !r["mean_rel_error"].is_null() && r["mean_rel_error"].get<double>() > *threshold;
+    r["passed"] = !failed;
+    if (json) std::cout << r.dump(2) << '\n';
+    else {
+        std::cout << "check of " << modelPath << " against " << runs.rows.size() << " full runs\n  hold-out ("
+                  << r["n_holdout"] << " runs): mean " << pct(r["mean_rel_error"]) << ", max " << pct(r["max_rel_error"])
+                  << " relative error, 95% interval coverage " << pct(r["coverage95"]) << "\n  leave-one-out ("
+                  << r["loo"]["n"] << " training runs): mean " << pct(r["loo"]["mean_rel_error"]) << ", max "
+                  << pct(r["loo"]["max_rel_error"]) << ", coverage " << pct(r["loo"]["coverage95"]) << '\n';
+        if (record) std::cout << "  recorded in the model's check history\n";
+    }
+    if (failed)
+        std::cerr << "mixload: check failed: mean hold-out error " << pct(r["mean_rel_error"]) << " exceeds --threshold "
+                  << pct(*threshold) << '\n';
+    return failed ? 1 : 0;
+}
+
+void addSurrogate(CLI::App& app, Action& action) {
+    auto* cmd = app.add_subcommand("surrogate", "Fit and inspect surrogate models of the mixer loading M");
+    cmd->require_subcommand(1);
+    auto o = std::make_shared<SurrogateCmd>();
+
+    auto* f = cmd->add_subcommand("fit", "Fit a response surface or kriging model to full runs");
+    f->add_option("--campaign", o->campaign, "Mixer campaign whose finished, steady runs train the model");
+    f->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
+    f->add_option("--table", o->table, "CSV instead of a campaign (columns as `campaign export` writes)");
+    f->add_option("--kind", o->kind, "rsm | kriging")->capture_default_str();
+    f->add_option("-o,--output", o->output, "Model file to write (.json)")->required();
+    f->add_option("--holdout", o->holdout, "Keep the last N runs out of training (for `mixload check`)")->capture_default_str();
+    f->add_option("--transform", o->transform, "auto (by leave-one-out error) | none | log (log M, log of d, rho, feed, rpm)")
+        ->capture_default_str();
+    f->add_flag("--no-select", o->noSelect, "rsm: keep every term of the full quadratic (no PRESS selection)");
+    f->add_option("--kernel", o->kernel, "kriging: matern52 | se")->capture_default_str();
+    f->add_option("--trend", o->trend, "kriging: constant | linear")->capture_default_str();
+    f->add_option("--starts", o->starts, "kriging: multistart count of the likelihood optimisation")->capture_default_str();
+    f->add_option("--seed", o->seed, "kriging: seed of the multistart")->capture_default_str();
+    f->add_flag("--json", o->json, "Print JSON");
+    f->callback([&action, o] { action = [o] { return fit(*o); }; });
+
+    auto* i = cmd->add_subcommand("info", "Print a model's inputs, training box, coefficients, validation and provenance");
+    i->add_option("MODEL", o->model, "Model file")->required();
+    i->add_flag("--json", o->json, "Print JSON");
+    i->callback([&action, o] { action = [o] { return info(*o); }; });
+
+    auto* c = app.add_subcommand("check", "Compare a model with every full run it was not trained on (and LOO for the rest)");
+    c->add_option("--model", o->model, "Model file (default: the shipped kriging model)");
+    c->add_option("--campaign", o->campaign, "Mixer campaign (default: the model's own)");
+    c->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
+    c->add_option("--table", o->table, "CSV of full runs instead of a campaign");
+    c->add_option("--threshold", o->threshold, "Exit 1 when the mean hold-out relative error exceeds this (e.g. 0.05)");
+    c->add_flag("--no-record", o->noRecord, "Do not append the result to the model's check history");
+    c->add_flag("--json", o->json, "Print JSON");
+    c->callback([&action, o] {
+        action = [o] {
+            return runCheck(o->model.empty() ? defaultModelPath() : o->model, o->campaign, o->dir, o->table, o->threshold,
+                            !o->noRecord, o->json);
+        };
+    });
+}
+
+}  // namespace mixload::app

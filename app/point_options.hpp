@@ -1,0 +1,25 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The seven surrogate inputs as command-line flags (SI units), and where the shipped model lives.
+#pragma once
+#include <array>
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "inputs.hpp"
+
+namespace mixload::app {
+
+// The shipped kriging model (regenerate: see README, Surrogates).
+std::string defaultModelPath();
+
+struct PointOptions {
+    std::array<std::optional<double>, surrogates::kInputs> v;
+    // prefix "" gives --mu-s ...; materialOnly: the five formulation inputs, not feed and rpm.
+    void add(CLI::App* cmd, const std::string& prefix = "", const std::string& what = "", bool materialOnly = false);
+    // Throws InputError naming a missing flag; checks the point is physical (mu_d > mu_s, ...).
+    surrogates::Point point(const std::string& prefix = "") const;
+};
+
+}  // namespace mixload::app

@@ -1,0 +1,150 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "table.hpp"
+
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "common/input_error.hpp"
+
+namespace mixload::surrogates {
+
+namespace {
+
+// CSV fields with "quoted, fields" and "" escapes, as the campaign export writes them.
+std::vector<std::string> splitCsv(const std::string& line) {
+    std::vector<std::string> out;
+    std::string cur;
+    bool quoted = false;
+    for (size_t i = 0; i < line.size(); ++i) {
+        const char c = line[i];
+        if (quoted) {
+            if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') cur += '"', ++i;
+            else if (c == '"') quoted = false;
+            else cur += c;
+        } else if (c == '"') {
+            quoted = true;
+        } else if (c == ',') {
+            out.push_back(cur);
+            cur.clear();
+        } else if (c != '\r') {
+            cur += c;
+        }
+    }
+    out.push_back(cur);
+    return out;
+}
+
+}  // namespace
+
+namespace {
+
+struct Csv {
+    std::map<std::string, size_t> col;
+    std::vector<std::vector<std::string>> rows;
+};
+
+Csv parseCsv(const std::filesystem::path& csv) {
+    std::ifstream is(csv);
+    if (!is) throw InputError("table", csv.string(), "a readable CSV file");
+    Csv c;
+    std::string line;
+    bool header = false;
+    while (std::getline(is, line)) {
+        if (line.empty() || line[0] == '#') continue;
+        auto f = splitCsv(line);
+        if (!header) {
+            for (size_t i = 0; i < f.size(); ++i) c.col[f[i]] = i;
+            header = true;
+        } else {
+            c.rows.push_back(std::move(f));
+        }
+    }
+    return c;
+}
+
+// Column of each input; mu_d may come as delta_mu (mu_d = mu_s + delta_mu).
+std::array<size_t, kInputs> inputColumns(const Csv& c, const std::filesystem::path& csv, bool& deltaMu) {
+    deltaMu = !c.col.count("mu_d") && c.col.count("delta_mu");
+    std::array<size_t, kInputs> ix{};
+    for (size_t k = 0; k < kInputs; ++k) {
+        const std::string name = std::string(kInputSpecs[k].name) == "mu_d" && deltaMu ? "delta_mu" : kInputSpecs[k].name;
+        if (!c.col.count(name))
+            throw InputError(csv.string() + ": no column '" + name +
+                             "' (needs mu_s, mu_d or delta_mu, i0, d, rho, feed_kg_h, rpm)");
+        ix[k] = c.col.at(name);
+    }
+    return ix;
+}
+
+}  // namespace
+
+Table readTable(const std::filesystem::path& csv) {
+    const Csv c = parseCsv(csv);
+    bool deltaMu = false;
+    const auto ix = inputColumns(c, csv, deltaMu);
+    if (!c.col.count(kOutputName)) throw InputError(csv.string() + ": no column '" + kOutputName + "'");
+    const size_t mcol = c.col.at(kOutputName);
+    Table t;
+    size_t rowNo = 0;
+    for (const auto& f : c.rows) {
+        ++rowNo;
+        const auto field = [&](const char* name) -> std::string {
+            return c.col.count(name) && c.col.at(name) < f.size() ? f[c.col.at(name)] : std::string();
+        };
+        if ((!field("status").empty() && field("status") != "done") || field("steady") == "false" ||
+            field("steady") == "0") {
+            ++t.skipped;
+            continue;
+        }
+        Row r;
+        r.id = !field("scene_hash").empty() ? field("scene_hash")
+               : !field("index").empty()    ? field("index")
+                                            : std::to_string(rowNo);
+        try {
+            for (size_t k = 0; k < kInputs; ++k) r.x[k] = std::stod(f.at(ix[k]));
+            r.m = std::stod(f.at(mcol));
+        } catch (const std::exception&) {
+            ++t.skipped;
+            continue;
+        }
+        if (deltaMu) r.x[1] += r.x[0];
+        t.rows.push_back(r);
+    }
+    return t;
+}
+
+std::vector<Point> readInputs(const std::filesystem::path& csv) {
+    const Csv c = parseCsv(csv);
+    bool deltaMu = false;
+    const auto ix = inputColumns(c, csv, deltaMu);
+    std::vector<Point> out;
+    for (size_t r = 0; r < c.rows.size(); ++r) {
+        Point x{};
+        for (size_t k = 0; k < kInputs; ++k) {
+            try {
+                x[k] = std::stod(c.rows[r].at(ix[k]));
+            } catch (const std::exception&) {
+                throw InputError(csv.string() + ": row " + std::to_string(r + 1) + ": " + kInputSpecs[k].name +
+                                 " is not a number");
+            }
+        }
+        if (deltaMu) x[1] += x[0];
+        out.push_back(x);
+    }
+    return out;
+}
+
+void requirePhysical(const Point& x) {
+    requireRange("mu-s", x[0], 0.0, 10.0);
+    if (!(x[1] > x[0]))
+        throw InputError("mu-d", formatNumber(x[1]), "greater than mu-s = " + formatNumber(x[0]));
+    requireRange("mu-d", x[1], 0.0, 10.0);
+    requirePositive("i0", x[2]);
+    requirePositive("d", x[3]);
+    requirePositive("rho", x[4]);
+    requirePositive("feed-kg-h", x[5]);
+    requirePositive("rpm", x[6]);
+}
+
+}  // namespace mixload::surrogates

@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Training and checking data: one row per finished full run, inputs and the loading M.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "inputs.hpp"
+
+namespace mixload::surrogates {
+
+struct Row {
+    std::string id;  // the run's scene hash (stable across ledgers and exports)
+    Point x{};
+    double m = 0;    // mixer loading [kg]
+};
+
+struct Table {
+    std::vector<Row> rows;
+    size_t skipped = 0;  // rows not usable: not done, not steady, or missing a value
+};
+
+// Reads a CSV such as `mixload campaign export` writes ('#' lines are comments). Needs the seven
+// input columns (mu_d, or delta_mu with mu_d = mu_s + delta_mu) and loading_kg; uses scene_hash (or
+// index, or the row number) as id; skips rows whose status is not "done" or whose steady is false.
+// Throws InputError naming the file and the missing column.
+Table readTable(const std::filesystem::path& csv);
+
+// Just the seven inputs of every row (prediction batches). Throws InputError naming the row.
+std::vector<Point> readInputs(const std::filesystem::path& csv);
+
+// Throws InputError (field, value, allowed range) for a non-physical point: mu_d <= mu_s,
+// non-positive d, rho, i0, feed or rpm, negative mu_s.
+void requirePhysical(const Point& x);
+
+}  // namespace mixload::surrogates
