@@ -70,6 +70,7 @@ nlohmann::json mixerRow(const scene::MixerScene& s, const nlohmann::json& r, int
 void addBench(CLI::App& app, Action& action) {
     auto* bench = app.add_subcommand("bench", "Benchmarks (time and accuracy side by side)");
     bench->require_subcommand(1);
+    addBenchPredict(bench, action);
     auto* c = bench->add_subcommand("collapse", "Collapse a = 2 at Li/30: wall time, cells, cell-steps/s, serial vs MPI");
     auto o = std::make_shared<BenchCollapse>();
     o->scene.add(c);

@@ -45,6 +45,7 @@ struct CampaignCmd {
     double maxHours = 0;
     std::optional<double> cellSize, endTime, initialLoadingKg, steadyTol, steadyFlowTol;
     bool json = false, snapshots = false;
+    std::string checkModel;
 };
 
 fs::path ledgerPath(const CampaignCmd& o) { return fs::path(o.dir) / o.name / "ledger.sqlite"; }
@@ -379,6 +380,14 @@ int runCampaign(const CampaignCmd& o) {
             }
             std::lock_guard<std::mutex> g(m);
             ++finished;
+            if (!o.checkModel.empty()) {
+                // Every new full run is a new test of the model (it never trained on it).
+                try {
+                    runCheck(o.checkModel, o.name, o.dir, "", std::nullopt, true, false, o.json);
+                } catch (const std::exception& e) {
+                    std::cerr << "mixload: check of " << o.checkModel << " failed: " << e.what() << '\n';
+                }
+            }
             bar.update(double(finished) / total,
                        std::to_string(finished.load()) + "/" + std::to_string(total) + " runs");
         }
@@ -471,6 +480,7 @@ void addCampaign(CLI::App& app, Action& action) {
     rn->add_option("--np", o->np, "MPI ranks per run")->capture_default_str();
     rn->add_option("--max-hours", o->maxHours, "Stop cleanly after this many hours (0: no limit); unfinished runs resume next time");
     rn->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
+    rn->add_option("--check", o->checkModel, "After each finished run, check this surrogate model against the campaign (mixload check)");
     rn->add_flag("--snapshots", o->snapshots, "Keep every written time of each run and export its snapshots.h5");
     rn->add_flag("--json", o->json, "Print JSON");
     rn->callback([&action, o] { action = [o] { return runCampaign(*o); }; });

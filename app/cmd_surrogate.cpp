@@ -169,7 +169,7 @@ int info(const SurrogateCmd& o) {
 }  // namespace
 
 int runCheck(const std::string& modelPath, const std::string& campaign, const std::string& dir, const std::string& table,
-             std::optional<double> threshold, bool record, bool json) {
+             std::optional<double> threshold, bool record, bool json, bool quiet) {
     auto m = surrogates::Surrogate::load(modelPath);
     SurrogateCmd o;
     o.campaign = campaign;
@@ -204,8 +204,10 @@ int runCheck(const std::string& modelPath, const std::string& campaign, const st
     }
     const bool failed = threshold && !r["mean_rel_error"].is_null() && r["mean_rel_error"].get<double>() > *threshold;
     r["passed"] = !failed;
-    if (json) std::cout << r.dump(2) << '\n';
-    else {
+    if (quiet) {
+    } else if (json) {
+        std::cout << r.dump(2) << '\n';
+    } else {
         std::cout << "check of " << modelPath << " against " << runs.rows.size() << " full runs\n  hold-out ("
                   << r["n_holdout"] << " runs): mean " << pct(r["mean_rel_error"]) << ", max " << pct(r["max_rel_error"])
                   << " relative error, 95% interval coverage " << pct(r["coverage95"]) << "\n  leave-one-out ("

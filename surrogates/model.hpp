@@ -62,6 +62,7 @@ public:
     const nlohmann::json& validation() const { return validation_; }
     const nlohmann::json& provenance() const { return provenance_; }
     nlohmann::json& checks() { return checks_; }
+    const nlohmann::json& checkHistory() const { return checks_; }
     std::vector<std::string> warnings() const;
     // LOO errors of the training runs, by id: {id: [predicted, lo, hi]}.
     const nlohmann::json& loo() const { return loo_; }

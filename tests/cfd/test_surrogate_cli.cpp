@@ -1,0 +1,136 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The surrogate commands as users run them: fit from a table, predict (warnings outside the
+// training box, exit 2 on non-physical input), batch prediction, what-if, check with a threshold;
+// and the shipped model against the shipped campaign, with the figures the README quotes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <random>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_harness.hpp"
+#include "common/atomic_file.hpp"
+
+using namespace mixload::testing;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A synthetic campaign export: a smooth loading law on 40 points, as `campaign export` writes it.
+fs::path syntheticTable(const fs::path& dir) {
+    std::mt19937 g(3);
+    std::uniform_real_distribution<double> u(0, 1);
+    std::ostringstream os;
+    os << "# synthetic\nindex,mu_s,delta_mu,i0,d,rho,feed_kg_h,rpm,scene_hash,status,loading_kg,steady\n";
+    for (int i = 0; i < 40; ++i) {
+        const double mus = 0.2 + 0.25 * u(g), dmu = 0.05 + 0.25 * u(g), i0 = 0.1 + 0.5 * u(g), d = 1e-4 + 3e-4 * u(g),
+                     rho = 250 + 350 * u(g), feed = 5 + 40 * u(g), rpm = 39 + 215 * u(g);
+        const double m = 0.03 * std::pow(feed / 20, 0.65) * std::pow(rpm / 100, -0.4) * (1 + 0.3 * (mus - 0.3));
+        os << std::setprecision(17) << i << ',' << mus << ',' << dmu << ',' << i0 << ',' << d << ',' << rho << ',' << feed
+           << ',' << rpm << ",h" << i << ",done," << m << ",true\n";
+    }
+    os << "40,0.3,0.1,0.3,2e-4,300,10,100,h40,failed,,\n";  // not usable: skipped
+    const fs::path f = dir / "runs.csv";
+    mixload::writeFileAtomic(f, os.str());
+    return f;
+}
+
+const std::vector<std::string> kAvicel{"--mu-s", "0.31", "--mu-d", "0.44", "--i0", "0.28", "--d", "240e-6", "--rho", "329.84"};
+
+std::vector<std::string> cat(std::vector<std::string> a, const std::vector<std::string>& b) {
+    a.insert(a.end(), b.begin(), b.end());
+    return a;
+}
+
+}  // namespace
+
+TEST(SurrogateCli, FitPredictWhatifCheck) {
+    const fs::path dir = scratchDir("surrogate-cli");
+    const fs::path table = syntheticTable(dir), model = dir / "k.json";
+    auto r = runMixload({"surrogate", "fit", "--table", table.string(), "--kind", "kriging", "--holdout", "8", "-o",
+                         model.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["n_train"], 32);
+    EXPECT_EQ(j["n_holdout"], 8);
+
+    r = runMixload(cat({"predict", "--model", model.string(), "--feed-kg-h", "20", "--rpm", "100", "--json"}, kAvicel));
+    ASSERT_EQ(r.rc, 0) << r.err;
+    j = nlohmann::json::parse(r.out);
+    const double expected = 0.03 * std::pow(20.0 / 20, 0.65) * std::pow(100.0 / 100, -0.4) * (1 + 0.3 * 0.01);
+    EXPECT_NEAR(j["loading_kg"].get<double>(), expected, 0.05 * expected);
+    EXPECT_TRUE(j["in_training_box"].get<bool>());
+    EXPECT_LE(j["ci95_kg"][0].get<double>(), j["loading_kg"].get<double>());
+    EXPECT_GE(j["ci95_kg"][1].get<double>(), j["loading_kg"].get<double>());
+    EXPECT_TRUE(r.err.empty()) << r.err;
+
+    // Outside the box: a warning on stderr and in the JSON, not silence.
+    r = runMixload(cat({"predict", "--model", model.string(), "--feed-kg-h", "80", "--rpm", "100", "--json"}, kAvicel));
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_FALSE(nlohmann::json::parse(r.out)["in_training_box"].get<bool>());
+    EXPECT_NE(r.err.find("outside the training box: feed_kg_h = 80"), std::string::npos) << r.err;
+
+    // Non-physical input: exit 2, one clear line.
+    for (const auto& [flag, value, needle] : std::vector<std::array<std::string, 3>>{
+             {"--mu-d", "0.2", "mu-d"}, {"--d", "-1e-4", "d"}, {"--rpm", "0", "rpm"}}) {
+        auto args = cat({"predict", "--model", model.string(), "--feed-kg-h", "20", "--rpm", "100"}, kAvicel);
+        for (size_t i = 0; i + 1 < args.size(); ++i)
+            if (args[i] == flag) args[i + 1] = value;
+        r = runMixload(args);
+        EXPECT_EQ(r.rc, 2) << flag;
+        EXPECT_NE(r.err.find(needle), std::string::npos) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    }
+
+    // Batch: one output row per input row.
+    const fs::path out = dir / "pred.csv";
+    r = runMixload({"predict", "--model", model.string(), "--batch", table.string(), "-o", out.string()});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const std::string csv = mixload::readFile(out);
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 42);  // header + 41 rows (the failed row has inputs)
+
+    r = runMixload(cat({"whatif", "--model", model.string(), "--change", "rho=+50%", "--change", "mu_s=-10%", "--at", "20:100",
+                        "--at", "30:150", "--json"},
+                       kAvicel));
+    ASSERT_EQ(r.rc, 0) << r.err;
+    j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["points"].size(), 2u);
+    const auto& p = j["points"][0];
+    EXPECT_NEAR(j["new"]["rho"].get<double>(), 329.84 * 1.5, 1e-9);
+    EXPECT_NEAR(j["new"]["mu_s"].get<double>(), 0.279, 1e-12);
+    EXPECT_NEAR(p["delta_kg"].get<double>(), p["new"]["loading_kg"].get<double>() - p["base"]["loading_kg"].get<double>(), 1e-15);
+    double sum = p["interaction_kg"];
+    for (const auto& a : p["attribution"]) sum += a["delta_kg"].get<double>();
+    EXPECT_NEAR(sum, p["delta_kg"].get<double>(), 1e-12);
+    EXPECT_EQ(p["attribution"].size(), 2u);
+
+    // Check: 8 hold-out runs, 32 by LOO; a threshold below the error fails with exit 1.
+    r = runMixload({"check", "--model", model.string(), "--table", table.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["n_holdout"], 8);
+    EXPECT_EQ(j["loo"]["n"], 32);
+    for (const char* k : {"mean_rel_error", "max_rel_error", "coverage95"}) EXPECT_TRUE(j[k].is_number()) << k;
+    r = runMixload({"check", "--model", model.string(), "--table", table.string(), "--threshold", "1e-9"});
+    EXPECT_EQ(r.rc, 1);
+    EXPECT_NE(r.err.find("exceeds --threshold"), std::string::npos) << r.err;
+    const auto history = nlohmann::json::parse(mixload::readFile(model))["checks"];
+    EXPECT_EQ(history.size(), 2u);  // both checks recorded
+}
+
+TEST(SurrogateCli, BadModelFilesAreRefused) {
+    const fs::path dir = scratchDir("surrogate-bad");
+    const fs::path bad = dir / "bad.json";
+    mixload::writeFileAtomic(bad, R"({"schema": "mixload-surrogate", "schema_version": 99})");
+    auto r = runMixload(cat({"predict", "--model", bad.string(), "--feed-kg-h", "20", "--rpm", "100"}, kAvicel));
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_NE(r.err.find("schema version 99"), std::string::npos) << r.err;
+    r = runMixload(cat({"predict", "--model", (dir / "none.json").string(), "--feed-kg-h", "20", "--rpm", "100"}, kAvicel));
+    EXPECT_EQ(r.rc, 2);
+    r = runMixload({"surrogate", "fit", "--table", (dir / "none.csv").string(), "-o", (dir / "m.json").string()});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_FALSE(fs::exists(dir / "m.json"));
+}
