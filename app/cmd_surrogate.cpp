@@ -19,7 +19,7 @@ namespace {
 
 struct SurrogateCmd {
     std::string campaign, dir = "runs/campaigns", table, kind = "kriging", output, model, transform = "auto",
-                kernel = "matern52", trend = "constant";
+                kernel = "matern52", trend = "constant", objective = "likelihood";
     int holdout = 0, starts = 20;
     unsigned seed = 1;
     bool noSelect = false, json = false, noRecord = false;
@@ -66,6 +66,9 @@ int fit(const SurrogateCmd& o) {
         throw InputError("kernel/trend", o.kernel + "/" + o.trend, "matern52|se and constant|linear");
     }
     requireRange("starts", o.starts, 1, 1000);
+    if (o.objective != "likelihood" && o.objective != "loo")
+        throw InputError("objective", o.objective, "likelihood or loo");
+    f.kriging.objective = o.objective;
     f.kriging.starts = o.starts;
     f.kriging.seed = o.seed;
     nlohmann::json source;
@@ -83,7 +86,7 @@ int fit(const SurrogateCmd& o) {
                                     {"runs_skipped", runs.skipped},
                                     {"holdout_ids", held},
                                     {"options", {{"kind", o.kind}, {"transform", o.transform}, {"select", !o.noSelect},
-                                                 {"kernel", o.kernel}, {"trend", o.trend}, {"starts", o.starts},
+                                                 {"kernel", o.kernel}, {"trend", o.trend}, {"objective", o.objective}, {"starts", o.starts},
                                                  {"seed", o.seed}}},
                                     {"mixload_version", kVersion},
                                     {"git_commit", kGitCommit},
@@ -238,6 +241,8 @@ void addSurrogate(CLI::App& app, Action& action) {
     f->add_flag("--no-select", o->noSelect, "rsm: keep every term of the full quadratic (no PRESS selection)");
     f->add_option("--kernel", o->kernel, "kriging: matern52 | se")->capture_default_str();
     f->add_option("--trend", o->trend, "kriging: constant | linear")->capture_default_str();
+    f->add_option("--objective", o->objective, "kriging: hyperparameters by likelihood | loo (closed-form leave-one-out error)")
+        ->capture_default_str();
     f->add_option("--starts", o->starts, "kriging: multistart count of the likelihood optimisation")->capture_default_str();
     f->add_option("--seed", o->seed, "kriging: seed of the multistart")->capture_default_str();
     f->add_flag("--json", o->json, "Print JSON");
