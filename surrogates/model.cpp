@@ -87,7 +87,11 @@ Surrogate Surrogate::fit(const std::vector<Row>& train, const FitOptions& o, nlo
         // Leave-one-out predictions and the variance of a new run's result, transformed units.
         Eigen::VectorXd looPred(n), looVar(n);
         if (o.kind == "rsm") {
-            s.rsm_ = ResponseSurface::fit(Z, y, o.select);
+            try {
+                s.rsm_ = ResponseSurface::fit(Z, y, o.select);
+            } catch (const std::invalid_argument& e) {
+                throw InputError(e.what());  // more terms than runs
+            }
             const auto& rs = *s.rsm_;
             s.tQuantile_ = rs.dof() > 0 ? gsl_cdf_tdist_Pinv(0.975, rs.dof()) : kNaN;
             for (Eigen::Index i = 0; i < n; ++i) {
@@ -95,7 +99,11 @@ Surrogate Surrogate::fit(const std::vector<Row>& train, const FitOptions& o, nlo
                 looVar(i) = rs.residualVariance() / std::max(1 - rs.leverages()(i), 1e-12);
             }
         } else {
-            s.kriging_ = Kriging::fit(Z, y, o.kriging);
+            try {
+                s.kriging_ = Kriging::fit(Z, y, o.kriging);
+            } catch (const std::invalid_argument& e) {
+                throw InputError(e.what());  // e.g. too few runs for a linear trend
+            }
             const auto r = s.kriging_->looResiduals();
             const auto v = s.kriging_->looVariances();
             looPred = y - r;
