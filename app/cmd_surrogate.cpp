@@ -135,11 +135,15 @@ int info(const SurrogateCmd& o) {
         out["press"] = mod["press"];
     } else {
         const auto& mod = j["model"];
+        nlohmann::json lengths = nlohmann::json::object();
+        for (size_t k = 0; k < surrogates::kInputs && k < mod["lengthScales"].size(); ++k)
+            lengths[surrogates::kInputSpecs[k].name] = mod["lengthScales"][k];
         out["hyperparameters"] = {{"kernel", mod.value("kernel", "")},
                                   {"trend", mod.value("trend", "")},
-                                  {"length_scales", mod.value("length_scales", nlohmann::json())},
-                                  {"nugget", mod.value("nugget", nlohmann::json())},
-                                  {"process_variance", mod.value("process_variance", nlohmann::json())}};
+                                  {"length_scales", lengths},  // in scaled inputs, [0, 1] over the box
+                                  {"nugget", mod["nugget"]},
+                                  {"process_variance", mod["processVariance"]},
+                                  {"log_likelihood", mod["logLikelihood"]}};
     }
     if (o.json) {
         std::cout << out.dump(2) << '\n';
