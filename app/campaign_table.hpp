@@ -9,9 +9,8 @@
 
 namespace mixload::app {
 
-// Throws InputError if the campaign does not exist or is not a mixer campaign.
-surrogates::Table campaignTable(const std::string& name, const std::string& dir);
-// Campaign name, ledger path, design, base scene and the code that created it.
-nlohmann::json campaignProvenance(const std::string& name, const std::string& dir);
+// Throws InputError if the campaign does not exist or is not a mixer campaign. provenance gets the
+// campaign's name, ledger path, design, base scene and the code that created it.
+surrogates::Table campaignTable(const std::string& name, const std::string& dir, nlohmann::json& provenance);
 
 }  // namespace mixload::app

@@ -410,20 +410,17 @@ int runCampaign(const CampaignCmd& o) {
 
 }  // namespace
 
-namespace {
-experiments::CampaignInfo openByName(const std::string& name, const std::string& dir,
-                                     std::unique_ptr<experiments::Ledger>& l) {
+surrogates::Table campaignTable(const std::string& name, const std::string& dir, nlohmann::json& provenance) {
     CampaignCmd o;
     o.name = name;
     o.dir = dir;
-    return openCampaign(o, l);
-}
-}  // namespace
-
-surrogates::Table campaignTable(const std::string& name, const std::string& dir) {
     std::unique_ptr<experiments::Ledger> l;
-    const auto c = openByName(name, dir, l);
+    const auto c = openCampaign(o, l);
     if (c.scene != "mixer") throw InputError("campaign", name, "a mixer campaign (surrogates model the loading)");
+    provenance = {{"campaign", name},           {"ledger", ledgerPath(o).string()},
+                  {"design", c.design},         {"seed", c.seed},
+                  {"base", c.sceneJson},        {"campaign_created", c.created},
+                  {"campaign_mixload_version", c.mixloadVersion}, {"campaign_git_commit", c.gitCommit}};
     surrogates::Table t;
     for (const auto& r : l->runs(name)) {
         if (r.status != "done" || !r.result.value("steady", false) || !r.result.contains("loading_kg")) {
@@ -440,14 +437,6 @@ surrogates::Table campaignTable(const std::string& name, const std::string& dir)
         t.rows.push_back(row);
     }
     return t;
-}
-
-nlohmann::json campaignProvenance(const std::string& name, const std::string& dir) {
-    std::unique_ptr<experiments::Ledger> l;
-    const auto c = openByName(name, dir, l);
-    return {{"campaign", name}, {"ledger", (fs::path(dir) / name / "ledger.sqlite").string()}, {"design", c.design}, {"seed", c.seed},
-            {"base", c.sceneJson}, {"campaign_created", c.created}, {"campaign_mixload_version", c.mixloadVersion},
-            {"campaign_git_commit", c.gitCommit}};
 }
 
 void addCampaign(CLI::App& app, Action& action) {

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // mixload surrogate fit|info and mixload check.
 #include <chrono>
-#include <ctime>
 #include <iomanip>
 #include <iostream>
 
@@ -9,6 +8,7 @@
 #include "app/commands.hpp"
 #include "app/point_options.hpp"
 #include "check.hpp"
+#include "common/clock.hpp"
 #include "common/input_error.hpp"
 #include "mixload_version.hpp"
 #include "model.hpp"
@@ -26,20 +26,12 @@ struct SurrogateCmd {
     std::optional<double> threshold;
 };
 
-std::string utcNow() {
-    const std::time_t t = std::time(nullptr);
-    char buf[32];
-    std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-    return buf;
-}
-
 // Training or checking data: a campaign's ledger or a CSV table, exactly one of them.
 surrogates::Table loadRuns(const SurrogateCmd& o, nlohmann::json& source) {
     if (o.campaign.empty() == o.table.empty())
         throw InputError("--campaign / --table", "(both or neither)", "exactly one of them");
     if (!o.campaign.empty()) {
-        source = campaignProvenance(o.campaign, o.dir);
-        return campaignTable(o.campaign, o.dir);
+        return campaignTable(o.campaign, o.dir, source);
     }
     source = {{"table", o.table}};
     return surrogates::readTable(o.table);

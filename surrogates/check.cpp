@@ -1,38 +1,16 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "check.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <set>
 
-namespace mixload::surrogates {
+#include "error_stats.hpp"
 
-namespace {
-struct Stats {
-    size_t n = 0, covered = 0, withInterval = 0;
-    double sum = 0, max = 0;
-    void add(double m, double pred, double lo, double hi) {
-        const double e = std::abs(pred - m) / std::abs(m);
-        ++n;
-        sum += e;
-        max = std::max(max, e);
-        if (!std::isnan(lo) && !std::isnan(hi)) {
-            ++withInterval;
-            covered += m >= lo && m <= hi;
-        }
-    }
-    nlohmann::json mean() const { return n ? nlohmann::json(sum / static_cast<double>(n)) : nlohmann::json(); }
-    nlohmann::json maxJson() const { return n ? nlohmann::json(max) : nlohmann::json(); }
-    nlohmann::json coverage() const {
-        return withInterval ? nlohmann::json(static_cast<double>(covered) / static_cast<double>(withInterval))
-                            : nlohmann::json();
-    }
-};
-}  // namespace
+namespace mixload::surrogates {
 
 nlohmann::json checkModel(const Surrogate& model, const Table& runs) {
     const std::set<std::string> trained(model.trainingIds().begin(), model.trainingIds().end());
-    Stats hold, loo;
+    ErrorStats hold, loo;
     nlohmann::json list = nlohmann::json::array();
     auto ws = model.makeWorkspace();
     for (const auto& r : runs.rows) {

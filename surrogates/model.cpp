@@ -10,6 +10,7 @@
 
 #include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
+#include "error_stats.hpp"
 
 namespace mixload::surrogates {
 
@@ -110,27 +111,23 @@ Surrogate Surrogate::fit(const std::vector<Row>& train, const FitOptions& o, nlo
             looVar = v;
         }
         const double q = o.kind == "rsm" ? s.tQuantile_ : kZ95;
-        double sumErr = 0, maxErr = 0;
-        int covered = 0;
+        ErrorStats stats;
         s.loo_ = nlohmann::json::object();
         for (Eigen::Index i = 0; i < n; ++i) {
             const auto& row = train[static_cast<size_t>(i)];
             const double m = back(tf.logOutput, looPred(i));
             const double sd = std::sqrt(std::max(looVar(i), 0.0));
             const double lo = back(tf.logOutput, looPred(i) - q * sd), hi = back(tf.logOutput, looPred(i) + q * sd);
-            const double err = std::abs(m - row.m) / std::abs(row.m);
-            sumErr += err;
-            maxErr = std::max(maxErr, err);
-            covered += row.m >= lo && row.m <= hi;
+            stats.add(row.m, m, lo, hi);
             s.loo_[row.id] = {m, lo, hi};
         }
-        const double meanErr = sumErr / static_cast<double>(n);
+        const double meanErr = stats.mean().get<double>();
         tried.push_back({{"transform", tf.describe()}, {"loo_mean_rel_error", meanErr}});
         s.validation_ = {{"method", "leave-one-out (closed form, hyperparameters and terms fixed)"},
                          {"n", n},
                          {"mean_rel_error", meanErr},
-                         {"max_rel_error", maxErr},
-                         {"coverage95", std::isnan(q) ? kNaN : covered / static_cast<double>(n)}};
+                         {"max_rel_error", stats.maxJson()},
+                         {"coverage95", stats.coverage()}};
         if (meanErr < bestErr) bestErr = meanErr, best = std::move(s);
     }
     best.validation_["transforms_tried"] = tried;

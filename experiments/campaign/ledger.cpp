@@ -1,22 +1,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "campaign/ledger.hpp"
 
-#include <chrono>
-#include <ctime>
 #include <stdexcept>
 
 #include <sqlite3.h>
 
+#include "common/clock.hpp"
+
 namespace mixload::experiments {
 
 namespace {
-
-std::string nowUtc() {
-    const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-    char b[32];
-    std::strftime(b, sizeof b, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-    return b;
-}
 
 // One prepared statement; bind() takes 1-based positions as SQLite does.
 class Stmt {
@@ -159,7 +152,7 @@ void Ledger::createCampaign(const CampaignInfo& c, const std::vector<nlohmann::j
            " method, mesh, created, mixload_version, git_commit) VALUES (?,?,?,?,?,?,?,?,?,?,?,?)");
     s.bind(1, c.name).bind(2, c.scene).bind(3, c.sceneHash).bind(4, c.sceneJson.dump())
         .bind(5, c.rangesToml).bind(6, c.design).bind(7, static_cast<long long>(c.seed))
-        .bind(8, c.method).bind(9, c.mesh).bind(10, c.created.empty() ? nowUtc() : c.created)
+        .bind(8, c.method).bind(9, c.mesh).bind(10, c.created.empty() ? utcNow() : c.created)
         .bind(11, c.mixloadVersion).bind(12, c.gitCommit);
     s.step();
     for (size_t i = 0; i < points.size(); ++i) {
@@ -222,7 +215,7 @@ std::optional<LedgerRun> Ledger::claimNext(const std::string& campaign, int maxA
     if (!r) return std::nullopt;
     Stmt u(db_, "UPDATE runs SET status = 'running', attempts = attempts + 1, started = ?,"
                 " error = NULL WHERE id = ?");
-    u.bind(1, nowUtc()).bind(2, static_cast<long long>(r->id));
+    u.bind(1, utcNow()).bind(2, static_cast<long long>(r->id));
     u.step();
     tx.commit();
     r->status = "running";
@@ -235,7 +228,7 @@ void Ledger::markDone(long id, const nlohmann::json& result, double wall, double
     Transaction tx(db_);
     Stmt u(db_, "UPDATE runs SET status = 'done', result = ?, wall_seconds = ?, core_seconds = ?,"
                 " run_dir = ?, finished = ?, error = NULL WHERE id = ?");
-    u.bind(1, result.dump()).bind(2, wall).bind(3, core).bind(4, runDir).bind(5, nowUtc())
+    u.bind(1, result.dump()).bind(2, wall).bind(3, core).bind(4, runDir).bind(5, utcNow())
         .bind(6, static_cast<long long>(id));
     u.step();
     tx.commit();
@@ -244,7 +237,7 @@ void Ledger::markDone(long id, const nlohmann::json& result, double wall, double
 void Ledger::markFailed(long id, const std::string& error, bool failed) {
     Transaction tx(db_);
     Stmt u(db_, "UPDATE runs SET status = ?, error = ?, finished = ? WHERE id = ?");
-    u.bind(1, std::string(failed ? "failed" : "queued")).bind(2, error).bind(3, nowUtc())
+    u.bind(1, std::string(failed ? "failed" : "queued")).bind(2, error).bind(3, utcNow())
         .bind(4, static_cast<long long>(id));
     u.step();
     tx.commit();

@@ -3,14 +3,13 @@
 
 #include <unistd.h>
 
-#include <chrono>
-#include <ctime>
 #include <fstream>
 #include <iomanip>
 #include <map>
 #include <sstream>
 
 #include "common/atomic_file.hpp"
+#include "common/clock.hpp"
 #include "common/input_error.hpp"
 #include "mixload_version.hpp"
 #include "post/foam_files.hpp"
@@ -33,13 +32,6 @@ std::string unitOf(const std::string& field) {
         {"alpha.powder", "1"}, {"U", "m/s"}, {"p", "Pa"}, {"p_rgh", "Pa"}, {"nu", "m2/s"}};
     const auto it = units.find(field);
     return it == units.end() ? "see OpenFOAM dimensions" : it->second;
-}
-
-std::string utcNow() {
-    const std::time_t t = std::time(nullptr);
-    char buf[32];
-    std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-    return buf;
 }
 
 std::vector<double> flatten(const std::vector<Vec3>& v) {
@@ -245,15 +237,21 @@ nlohmann::json exportSnapshots(const SnapshotExport& e) {
             const hsize_t nT = picked.size(), nC = mesh.nCells;
             const auto stored = e.float64 ? h5::Stored::Float64 : h5::Stored::Float32;
             for (const auto& f : names) {
-                const int comps = readInternalField(run / picked.back() / f, mesh.nCells).components;
-                auto d = h5::createDataset(fg, f, comps == 1 ? std::vector<hsize_t>{nT, nC}
-                                                             : std::vector<hsize_t>{nT, nC, 3},
-                                           stored, true);
-                h5::attr(d, "units", unitOf(f));
-                h5::attr(d, "source", std::string("OpenFOAM <time>/") + f + ", internal field");
+                // The first time read tells scalar or vector; the dataset is made from it.
+                h5::Handle d;
+                int comps = 0;
                 for (size_t i = 0; i < picked.size(); ++i) {
                     const auto v = readInternalField(run / picked[i] / f, mesh.nCells);
-                    if (v.components != comps) throw std::runtime_error(f + " changes type over time");
+                    if (i == 0) {
+                        comps = v.components;
+                        d = h5::createDataset(fg, f, comps == 1 ? std::vector<hsize_t>{nT, nC}
+                                                                : std::vector<hsize_t>{nT, nC, 3},
+                                              stored, true);
+                        h5::attr(d, "units", unitOf(f));
+                        h5::attr(d, "source", std::string("OpenFOAM <time>/") + f + ", internal field");
+                    } else if (v.components != comps) {
+                        throw std::runtime_error(f + " changes type over time");
+                    }
                     h5::writeRow(d, i, v.values);
                 }
                 written.emplace_back(f, comps);

@@ -1,0 +1,37 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Relative errors of predictions against full runs, and how often the runs fall inside the
+// predicted 95% intervals: what validation at fit time and `mixload check` both report.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+
+#include <nlohmann/json.hpp>
+
+namespace mixload::surrogates {
+
+struct ErrorStats {
+    std::size_t n = 0, covered = 0, withInterval = 0;
+    double sum = 0, max = 0;
+
+    // A run's loading m against a prediction and its interval (NaN bounds: no interval).
+    void add(double m, double pred, double lo, double hi) {
+        const double e = std::abs(pred - m) / std::abs(m);
+        ++n;
+        sum += e;
+        max = std::max(max, e);
+        if (!std::isnan(lo) && !std::isnan(hi)) {
+            ++withInterval;
+            covered += m >= lo && m <= hi;
+        }
+    }
+    // null when there is nothing to report
+    nlohmann::json mean() const { return n ? nlohmann::json(sum / static_cast<double>(n)) : nlohmann::json(); }
+    nlohmann::json maxJson() const { return n ? nlohmann::json(max) : nlohmann::json(); }
+    nlohmann::json coverage() const {
+        return withInterval ? nlohmann::json(static_cast<double>(covered) / static_cast<double>(withInterval))
+                            : nlohmann::json();
+    }
+};
+
+}  // namespace mixload::surrogates
