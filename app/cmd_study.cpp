@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include <cstdlib>
 #include <iostream>
+#include <optional>
 
 #include "app/collapse_options.hpp"
 #include "app/commands.hpp"
@@ -35,6 +37,13 @@ struct MixerStudyCmd {
     int np = 1;
     bool json = false;
 };
+// A --meshes entry is a level name or a cell size in metres; only a whole-string number counts.
+std::optional<double> parseNumber(const std::string& s) {
+    char* end = nullptr;
+    const double v = std::strtod(s.c_str(), &end);
+    if (s.empty() || end != s.c_str() + s.size()) return std::nullopt;
+    return v;
+}
 }  // namespace
 
 void addStudy(CLI::App& app, Action& action) {
@@ -84,7 +93,9 @@ void addStudy(CLI::App& app, Action& action) {
     auto mo = std::make_shared<MixerStudyCmd>();
     mo->base.add(mx, /*withMethod=*/false);
     mx->add_option("--methods", mo->methods, "mrf | lts | sm")->capture_default_str()->delimiter(',');
-    mx->add_option("--meshes", mo->meshes, "coarse | medium | fine (ignored with --cell-size)")
+    mx->add_option("--meshes", mo->meshes,
+                   "coarse | medium | fine, or a background cell size in metres (e.g. 0.01); "
+                   "ignored with --cell-size")
         ->capture_default_str()->delimiter(',');
     mx->add_option("--rpms", mo->rpms, "Impeller speeds [rev/min]")->capture_default_str()->delimiter(',');
     mx->add_option("--feeds", mo->feeds, "Feed rates [kg/h]")->capture_default_str()->delimiter(',');
@@ -108,7 +119,10 @@ void addStudy(CLI::App& app, Action& action) {
                         for (double feed : mo->feeds) {
                             MixerOptions opt = mo->base;
                             opt.method = method;
-                            if (!mesh.empty()) opt.mesh = mesh;
+                            if (!mesh.empty()) {
+                                if (const auto h = parseNumber(mesh)) opt.cellSize = *h;
+                                else opt.mesh = mesh;
+                            }
                             opt.rpm = rpm;
                             opt.feedKgH = feed;
                             st.scenes.push_back(opt.build());

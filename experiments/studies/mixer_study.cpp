@@ -8,6 +8,7 @@
 
 #include "common/atomic_file.hpp"
 #include "common/gnuplot.hpp"
+#include "common/input_error.hpp"
 #include "run/foam_runner.hpp"
 #include "run/mixer_job.hpp"
 #include "studies/run_pool.hpp"
@@ -76,7 +77,7 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
     nlohmann::json rows = nlohmann::json::array();
     for (const auto& s : study.scenes)
         rows.push_back({{"method", s.method},
-                        {"mesh", s.mesh},
+                        {"mesh", s.mesh == "custom" ? formatNumber(s.cellSize) + " m" : s.mesh},
                         {"rpm", s.rpm},
                         {"feed_kg_h", s.feedKgH},
                         {"initial_loading_kg", s.initialLoadingKg},
