@@ -23,6 +23,7 @@ nlohmann::json runCollapse(const CollapseJob& job) {
     s.validate();
     requireRange("np", job.np, 1, 256);
     const fs::path dir = fs::absolute(job.out.empty() ? defaultCollapseDir(s, job.np) : job.out);
+    const RunDirLock lock(dir);
     if (auto done = checkRunDir(dir, s.hash(), job.reuse)) {
         if (job.snapshots) addSnapshots(*done, dir);
         return *done;

@@ -29,6 +29,7 @@ nlohmann::json runMixer(const MixerJob& job) {
     s.validate();
     requireRange("np", job.np, 1, 256);
     const fs::path dir = fs::absolute(job.out.empty() ? defaultMixerDir(s, job.np) : job.out);
+    const RunDirLock lock(dir);
     if (auto done = checkRunDir(dir, s.hash(), job.reuse)) {
         if (job.snapshots) addSnapshots(*done, dir);
         return *done;

@@ -1,6 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "run/run_dir.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <iostream>
+
 #include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
 #include "mixload_version.hpp"
@@ -10,6 +18,27 @@
 namespace mixload::run {
 
 namespace fs = std::filesystem;
+
+RunDirLock::RunDirLock(const fs::path& dir) {
+    fs::create_directories(dir.parent_path());
+    fs::path lock = dir;
+    lock += ".lock";
+    fd_ = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0) throw RunError("cannot open " + lock.string() + ": " + std::strerror(errno));
+    if (::flock(fd_, LOCK_EX | LOCK_NB) == 0) return;
+    std::cerr << "mixload: waiting for another mixload process that is running " << dir.string()
+              << '\n';
+    while (::flock(fd_, LOCK_EX) != 0)
+        if (errno != EINTR) {
+            const std::string why = std::strerror(errno);
+            ::close(fd_);
+            throw RunError("cannot lock " + lock.string() + ": " + why);
+        }
+}
+
+RunDirLock::~RunDirLock() {
+    if (fd_ >= 0) ::close(fd_);
+}
 
 std::optional<nlohmann::json> checkRunDir(const fs::path& dir, const std::string& hash, bool reuse) {
     if (!fs::exists(dir)) return std::nullopt;

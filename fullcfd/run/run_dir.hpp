@@ -11,6 +11,20 @@
 
 namespace mixload::run {
 
+// Holds an exclusive lock on "<dir>.lock" for its lifetime, so two mixload processes that share a
+// run store (two studies, or a study and a hand-started run) never run the same case at once: the
+// second waits, then finds the finished result. Released by the kernel if the process dies.
+class RunDirLock {
+public:
+    explicit RunDirLock(const std::filesystem::path& dir);
+    ~RunDirLock();
+    RunDirLock(const RunDirLock&) = delete;
+    RunDirLock& operator=(const RunDirLock&) = delete;
+
+private:
+    int fd_ = -1;
+};
+
 // Throws InputError if dir exists but holds another scene; returns the stored result (marked
 // "reused") when reuse is allowed and the run finished.
 std::optional<nlohmann::json> checkRunDir(const std::filesystem::path& dir, const std::string& hash,
