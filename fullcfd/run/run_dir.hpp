@@ -13,7 +13,8 @@ namespace mixload::run {
 
 // Holds an exclusive lock on "<dir>.lock" for its lifetime, so two mixload processes that share a
 // run store (two studies, or a study and a hand-started run) never run the same case at once: the
-// second waits, then finds the finished result. Released by the kernel if the process dies.
+// second waits, then finds the finished result. The file is removed on release; if the process
+// dies the kernel drops the lock and the stale file is reused by the next run.
 class RunDirLock {
 public:
     explicit RunDirLock(const std::filesystem::path& dir);
@@ -22,6 +23,7 @@ public:
     RunDirLock& operator=(const RunDirLock&) = delete;
 
 private:
+    std::filesystem::path path_;
     int fd_ = -1;
 };
 

@@ -29,8 +29,9 @@ TEST(RunDirLock, SecondHolderWaitsForTheFirst) {
     first.reset();
     t.join();
     EXPECT_TRUE(second);
-    // The run directory itself is not created by the lock; only its parent and the lock file.
+    // The lock creates only the parent and leaves nothing behind once released.
     EXPECT_FALSE(fs::exists(dir));
-    EXPECT_TRUE(fs::exists(dir.parent_path() / "run.lock"));
+    EXPECT_TRUE(fs::exists(dir.parent_path()));
+    EXPECT_FALSE(fs::exists(dir.parent_path() / "run.lock"));
     fs::remove_all(dir.parent_path());
 }
