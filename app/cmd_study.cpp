@@ -1,7 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include <cstdlib>
 #include <iostream>
-#include <optional>
 
 #include "app/collapse_options.hpp"
 #include "app/commands.hpp"
@@ -37,13 +35,6 @@ struct MixerStudyCmd {
     int np = 1;
     bool json = false;
 };
-// A --meshes entry is a level name or a cell size in metres; only a whole-string number counts.
-std::optional<double> parseNumber(const std::string& s) {
-    char* end = nullptr;
-    const double v = std::strtod(s.c_str(), &end);
-    if (s.empty() || end != s.c_str() + s.size()) return std::nullopt;
-    return v;
-}
 }  // namespace
 
 void addStudy(CLI::App& app, Action& action) {
@@ -120,6 +111,7 @@ void addStudy(CLI::App& app, Action& action) {
                             MixerOptions opt = mo->base;
                             opt.method = method;
                             if (!mesh.empty()) {
+                                // An entry is a level name or a cell size in metres.
                                 if (const auto h = parseNumber(mesh)) opt.cellSize = *h;
                                 else opt.mesh = mesh;
                             }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "common/input_error.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -9,6 +10,13 @@ namespace mixload {
 
 InputError::InputError(const std::string& key, const std::string& value, const std::string& allowed)
     : std::runtime_error("invalid " + key + " = " + value + ": allowed " + allowed) {}
+
+std::optional<double> parseNumber(std::string_view s) {
+    double v = 0;
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (s.empty() || ec != std::errc() || end != s.data() + s.size()) return std::nullopt;
+    return v;
+}
 
 std::string formatNumber(double v) {
     std::ostringstream os;

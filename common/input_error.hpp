@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace mixload {
 
@@ -14,6 +16,9 @@ public:
 };
 
 std::string formatNumber(double v);
+// The number a whole string spells (no leading blanks, no trailing text), or nothing: OpenFOAM time
+// directory names, and list entries that may be a number or a name.
+std::optional<double> parseNumber(std::string_view s);
 
 // Throws InputError unless lo <= v <= hi (inclusive flags choose strictness).
 void requireRange(const std::string& key, double v, double lo, double hi, bool loInclusive = true,

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "common/atomic_file.hpp"
+#include "common/input_error.hpp"
 
 namespace mixload::post {
 
@@ -282,9 +283,7 @@ std::vector<std::string> timeDirectories(const fs::path& caseDir) {
     for (const auto& e : fs::directory_iterator(caseDir)) {
         if (!e.is_directory()) continue;
         const std::string name = e.path().filename();
-        double t = 0;
-        const auto [p, ec] = std::from_chars(name.data(), name.data() + name.size(), t);
-        if (ec == std::errc() && p == name.data() + name.size()) times.emplace_back(t, name);
+        if (const auto t = parseNumber(name)) times.emplace_back(*t, name);
     }
     std::sort(times.begin(), times.end());
     std::vector<std::string> out;

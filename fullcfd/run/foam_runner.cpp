@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdlib>
 
+#include "common/input_error.hpp"
 #include "common/process.hpp"
 #include "common/progress.hpp"
 
@@ -47,12 +48,6 @@ void check(int rc, const fs::path& caseDir, const std::string& what, const std::
                    (caseDir / logName).string() + ":\n" + tailLines(caseDir / logName, 25));
 }
 
-bool isTimeName(const std::string& s, double& value) {
-    char* end = nullptr;
-    value = std::strtod(s.c_str(), &end);
-    return !s.empty() && end && *end == '\0';
-}
-
 }  // namespace
 
 void runUtility(const fs::path& caseDir, const std::vector<std::string>& argv) {
@@ -64,8 +59,8 @@ double latestTime(const fs::path& caseDir) {
     double latest = 0;
     if (!fs::exists(caseDir)) return latest;
     for (const auto& e : fs::directory_iterator(caseDir)) {
-        double t;
-        if (e.is_directory() && isTimeName(e.path().filename().string(), t) && t > latest) latest = t;
+        if (!e.is_directory()) continue;
+        if (const auto t = parseNumber(e.path().filename().string()); t && *t > latest) latest = *t;
     }
     return latest;
 }

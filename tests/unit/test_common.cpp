@@ -50,3 +50,12 @@ TEST(Common, RunProcessCapturesLinesAndExitCode) {
     ASSERT_EQ(lines.size(), 2u);
     EXPECT_EQ(lines[1], "two");
 }
+
+TEST(Common, ParseNumberTakesOnlyWholeStrings) {
+    EXPECT_EQ(parseNumber("0.01"), 0.01);
+    EXPECT_EQ(parseNumber("21.67900250528"), 21.67900250528);
+    EXPECT_EQ(parseNumber("1e-3"), 1e-3);
+    EXPECT_EQ(parseNumber("0"), 0.0);
+    for (const char* s : {"", "coarse", "0.01m", " 1", "1 ", "0.orig"})
+        EXPECT_FALSE(parseNumber(s).has_value()) << '"' << s << '"';
+}
