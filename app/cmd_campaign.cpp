@@ -44,6 +44,8 @@ struct CampaignCmd {
     int jobs = 1, np = 1;
     double maxHours = 0;
     std::optional<double> cellSize, endTime, initialLoadingKg, steadyTol, steadyFlowTol;
+    std::string mesher = "ogrid";
+    double steadyResidence = scene::MixerScene{}.steadyResidence;
     bool json = false, snapshots = false;
     std::string checkModel;
 };
@@ -65,6 +67,8 @@ nlohmann::json baseOf(const CampaignCmd& o, const std::string& kind) {
         if (o.initialLoadingKg) b["initial_loading_kg"] = *o.initialLoadingKg;
         if (o.steadyTol) b["steady_tol"] = *o.steadyTol;
         if (o.steadyFlowTol) b["steady_flow_tol"] = *o.steadyFlowTol;
+        b["mesher"] = o.mesher;
+        b["steady_window_residence"] = o.steadyResidence;
         return b;
     }
     if (o.cellSize || o.endTime || o.initialLoadingKg || o.steadyTol || o.steadyFlowTol)
@@ -88,6 +92,10 @@ scene::MixerScene mixerSceneFor(const nlohmann::json& base, const nlohmann::json
         m.initialLoadingKg = base["initial_loading_kg"].get<double>();
     if (base.contains("steady_tol")) m.tol = base["steady_tol"].get<double>();
     if (base.contains("steady_flow_tol")) m.flowTol = base["steady_flow_tol"].get<double>();
+    // Campaigns created before these settings existed ran on the snappy mesh with windows of
+    // revolutions only: without the keys, their points keep those scenes (and hashes).
+    m.mesher = base.value("mesher", std::string("snappy"));
+    m.residence = base.value("steady_window_residence", 0.0);
     const double muS0 = m.build().material.muS;
     if (p.contains("mu_s")) m.muS = param(p, "mu_s");
     if (p.contains("delta_mu")) m.muD = m.muS.value_or(muS0) + param(p, "delta_mu");
@@ -459,6 +467,10 @@ void addCampaign(CLI::App& app, Action& action) {
                    "Mixer: powder deposited at t = 0 [kg]; near the expected loading shortens each run");
     cr->add_option("--steady-tol", o->steadyTol, "Mixer: steady when consecutive window means of M agree within this fraction");
     cr->add_option("--steady-flow-tol", o->steadyFlowTol, "Mixer: ... and the mean outflow is within this fraction of the feed");
+    cr->add_option("--mesher", o->mesher, "Mixer: ogrid | snappy")->capture_default_str();
+    cr->add_option("--steady-window-residence", o->steadyResidence,
+                   "Mixer: steady-test windows span at least this share of the residence time M/feed")
+        ->capture_default_str();
     cr->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
     cr->add_flag("--json", o->json, "Print JSON");
     cr->callback([&action, o] { action = [o] { return create(*o); }; });

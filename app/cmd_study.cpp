@@ -29,6 +29,8 @@ struct MixerStudyCmd {
     std::vector<std::string> meshes{"coarse"};
     std::vector<double> rpms{39};
     std::vector<double> feeds{5};
+    std::vector<double> starts;         // initial loadings [kg]; empty: the base option's
+    std::vector<std::string> meshers;   // empty: the scene's
     std::string out = "runs/studies/mixer";
     std::string runs;
     int jobs = 1;
@@ -90,6 +92,12 @@ void addStudy(CLI::App& app, Action& action) {
         ->capture_default_str()->delimiter(',');
     mx->add_option("--rpms", mo->rpms, "Impeller speeds [rev/min]")->capture_default_str()->delimiter(',');
     mx->add_option("--feeds", mo->feeds, "Feed rates [kg/h]")->capture_default_str()->delimiter(',');
+    mx->add_option("--starts", mo->starts,
+                   "Initial loadings to sweep [kg] (deposits; 0 = empty), instead of "
+                   "--initial-loading-kg")
+        ->delimiter(',');
+    mx->add_option("--meshers", mo->meshers, "Meshers to sweep: ogrid | snappy (instead of --mesher)")
+        ->delimiter(',');
     mx->add_option("--out", mo->out, "Study directory (runs are kept, resumed and reused)")
         ->capture_default_str();
     mx->add_option("--runs", mo->runs, "Run store shared between studies (default <out>/runs)");
@@ -103,13 +111,24 @@ void addStudy(CLI::App& app, Action& action) {
             experiments::MixerStudy st;
             const std::vector<std::string> meshes =
                 mo->base.cellSize ? std::vector<std::string>{""} : mo->meshes;
+            // An empty entry keeps the base option (or the scene's value).
+            const auto orBase = [](auto list) {
+                using T = typename decltype(list)::value_type;
+                std::vector<std::optional<T>> out(list.begin(), list.end());
+                if (out.empty()) out.push_back(std::nullopt);
+                return out;
+            };
             // Every scene is validated before the first run starts.
             for (const auto& method : mo->methods)
+                for (const auto& mesher : orBase(mo->meshers))
                 for (const auto& mesh : meshes)
                     for (double rpm : mo->rpms)
-                        for (double feed : mo->feeds) {
+                        for (double feed : mo->feeds)
+                        for (const auto& start : orBase(mo->starts)) {
                             MixerOptions opt = mo->base;
                             opt.method = method;
+                            if (mesher) opt.mesher = *mesher;
+                            if (start) opt.initialLoadingKg = *start;
                             if (!mesh.empty()) {
                                 // An entry is a level name or a cell size in metres.
                                 if (const auto h = parseNumber(mesh)) opt.cellSize = *h;

@@ -13,6 +13,8 @@ void MixerOptions::add(CLI::App* cmd, bool withMethod) {
                         "mrf (frozen rotor, transient) | lts (MRF + local time stepping, "
                         "pseudo-steady) | sm (sliding mesh, AMI); default mrf");
     cmd->add_option("--mesh", mesh, "coarse | medium | fine (cell sizes in the scene file)");
+    cmd->add_option("--mesher", mesher,
+                    "ogrid (blockMesh O-grid, default) | snappy (castellated, mrf/lts only)");
     cmd->add_option("--cell-size", cellSize, "Explicit background cell size [m] (instead of --mesh)");
     cmd->add_option("--rpm", rpm, "Impeller speed [rev/min]");
     cmd->add_option("--feed-kg-h", feedKgH, "Powder feed rate [kg/h]");
@@ -31,6 +33,9 @@ void MixerOptions::add(CLI::App* cmd, bool withMethod) {
     cmd->add_option("--lts-iterations", ltsIterations, "Cap on pseudo-time iterations (lts)");
     cmd->add_option("--steady-window-revs", window,
                     "Steady test window [revolutions]: two consecutive windows compared");
+    cmd->add_option("--steady-window-residence", residence,
+                    "Steady test window: also at least this share of the residence time M/feed "
+                    "(0: revolutions only; lts: ignored)");
     cmd->add_option("--steady-tol", tol, "Steady: window means agree within this fraction");
     cmd->add_option("--steady-flow-tol", flowTol,
                     "Steady: mean outflow within this fraction of the feed");
@@ -46,6 +51,7 @@ scene::MixerScene MixerOptions::build() const {
         s.mesh = "custom";
         s.cellSize = *cellSize;
     }
+    if (mesher) s.mesher = *mesher;
     if (rpm) s.rpm = *rpm;
     if (feedKgH) s.feedKgH = *feedKgH;
     if (muS) s.material.muS = *muS;
@@ -64,6 +70,7 @@ scene::MixerScene MixerOptions::build() const {
     if (endTime) s.endTime = *endTime;
     if (ltsIterations) s.ltsIterations = *ltsIterations;
     if (window) s.steadyWindowRevs = *window;
+    if (residence) s.steadyResidence = *residence;
     if (tol) s.steadyTol = *tol;
     if (flowTol) s.steadyFlowTol = *flowTol;
     if (minTime) s.minTime = *minTime;

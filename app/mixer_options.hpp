@@ -12,9 +12,9 @@ namespace mixload::app {
 
 struct MixerOptions {
     std::string scene = "gcm250";
-    std::optional<std::string> method, mesh, rheology, convention;
+    std::optional<std::string> method, mesh, mesher, rheology, convention;
     std::optional<double> rpm, feedKgH, muS, muD, I0, d, rho, initialLoadingKg, endTime, cellSize,
-        etaMax, window, tol, flowTol, minTime;
+        etaMax, window, residence, tol, flowTol, minTime;
     std::optional<int> ltsIterations;
 
     void add(CLI::App* cmd, bool withMethod = true);

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "common/atomic_file.hpp"
@@ -19,9 +20,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string series(const nlohmann::json& r, const char* fixed) {
+std::string series(const nlohmann::json& r, const char* fixed, bool withStart) {
     std::ostringstream os;
     os << r["method"].get<std::string>() << ' ' << r["mesh"].get<std::string>() << ' ';
+    if (withStart) os << "from " << r["initial_loading_kg"].get<double>() << " kg ";
     if (std::string(fixed) == "rpm") os << r["rpm"].get<double>() << " rpm";
     else os << r["feed_kg_h"].get<double>() << " kg/h";
     return os.str();
@@ -31,12 +33,15 @@ std::string plotStudy(const fs::path& out, const nlohmann::json& rows) {
     // Left: M against feed, one line per method/mesh/rpm. Right: M against rpm, one per feed.
     // Unsteady or leaking points are drawn hollow: they are not results.
     std::map<std::string, std::ostringstream> byFeed, byRpm;
+    std::set<double> starts;
+    for (const auto& r : rows) starts.insert(r["initial_loading_kg"].get<double>());
+    const bool withStart = starts.size() > 1;
     for (const auto& r : rows) {
         if (!r.contains("loading_kg")) continue;
         const bool good = r["steady"].get<bool>() && r.value("powder_balance_ok", true);
-        byFeed[series(r, "rpm")] << r["feed_kg_h"].get<double>() << ' ' << r["loading_kg"].get<double>()
+        byFeed[series(r, "rpm", withStart)] << r["feed_kg_h"].get<double>() << ' ' << r["loading_kg"].get<double>()
                                  << ' ' << (good ? 7 : 6) << '\n';
-        byRpm[series(r, "feed")] << r["rpm"].get<double>() << ' ' << r["loading_kg"].get<double>()
+        byRpm[series(r, "feed", withStart)] << r["rpm"].get<double>() << ' ' << r["loading_kg"].get<double>()
                                  << ' ' << (good ? 7 : 6) << '\n';
     }
     std::ostringstream gp;
@@ -77,7 +82,8 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
     nlohmann::json rows = nlohmann::json::array();
     for (const auto& s : study.scenes)
         rows.push_back({{"method", s.method},
-                        {"mesh", s.mesh == "custom" ? formatNumber(s.cellSize) + " m" : s.mesh},
+                        {"mesh", (s.mesh == "custom" ? formatNumber(s.cellSize) + " m" : s.mesh) +
+                                     (s.method != "sm" && s.mesher == "snappy" ? " snappy" : "")},
                         {"rpm", s.rpm},
                         {"feed_kg_h", s.feedKgH},
                         {"initial_loading_kg", s.initialLoadingKg},
@@ -99,37 +105,45 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
         [&](size_t i, const nlohmann::json& r) {
             for (const char* k : {"loading_kg", "loading_std_kg", "steady", "steady_time_s",
                                   "outflow_kg_h", "powder_leak_kg_h", "powder_balance_ok",
+                                  "rotor_zone_loading_kg",
                                   "end_time_s", "cells", "wall_seconds", "core_seconds", "error",
                                   "run_dir"})
                 if (r.contains(k)) rows[i][k] = r[k];
         });
 
     std::ostringstream csv, md;
-    csv << "method,mesh,cells,rpm,feed_kg_h,loading_kg,loading_std_kg,steady,steady_time_s,"
-           "outflow_kg_h,powder_leak_kg_h,powder_balance_ok,end_time_s,wall_seconds,core_seconds\n";
-    md << "| method | mesh | cells | rpm | feed [kg/h] | M [kg] | std [kg] | steady at [s] | outflow "
-          "[kg/h] | leak [kg/h] | simulated | wall [s] | core [s] |\n"
-          "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    csv << "method,mesh,cells,rpm,feed_kg_h,initial_loading_kg,loading_kg,loading_std_kg,steady,steady_time_s,"
+           "outflow_kg_h,powder_leak_kg_h,powder_balance_ok,end_time_s,wall_seconds,core_seconds,"
+           "rotor_zone_loading_kg\n";
+    md << "| method | mesh | cells | rpm | feed [kg/h] | start [kg] | M [kg] | std [kg] | in rotor zone "
+          "| steady at [s] | outflow [kg/h] | leak [kg/h] | simulated | wall [s] | core [s] |\n"
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& r : rows) {
         const std::string head = r["method"].get<std::string>() + " | " + r["mesh"].get<std::string>();
         if (!r.contains("loading_kg")) {
-            md << "| " << head << " | | " << r["rpm"] << " | " << r["feed_kg_h"]
-               << " | failed: see run dir |||||||\n";
+            md << "| " << head << " | | " << r["rpm"] << " | " << r["feed_kg_h"] << " | "
+               << r["initial_loading_kg"] << " | failed: see run dir ||||||||\n";
             continue;
         }
         const bool steady = r["steady"].get<bool>();
         const nlohmann::json leak = r.value("powder_leak_kg_h", nlohmann::json());
         const nlohmann::json ok = r.value("powder_balance_ok", nlohmann::json());
+        const nlohmann::json zone = r.value("rotor_zone_loading_kg", nlohmann::json());
+        const nlohmann::json zoneShare =
+            zone.is_null() ? zone : nlohmann::json(100.0 * zone.get<double>() / r["loading_kg"].get<double>());
         csv << r["method"].get<std::string>() << ',' << r["mesh"].get<std::string>() << ','
-            << r["cells"] << ',' << r["rpm"] << ',' << r["feed_kg_h"] << ',' << r["loading_kg"] << ','
+            << r["cells"] << ',' << r["rpm"] << ',' << r["feed_kg_h"] << ','
+            << r["initial_loading_kg"] << ',' << r["loading_kg"] << ','
             << r["loading_std_kg"] << ',' << (steady ? "yes" : "no") << ','
             << (steady ? r["steady_time_s"].dump() : "") << ',' << r["outflow_kg_h"] << ','
             << (leak.is_null() ? "" : leak.dump()) << ','
             << (ok.is_null() ? "" : (ok.get<bool>() ? "yes" : "no")) << ',' << r["end_time_s"]
-            << ',' << r["wall_seconds"] << ',' << r["core_seconds"] << '\n';
+            << ',' << r["wall_seconds"] << ',' << r["core_seconds"] << ','
+            << (zone.is_null() ? "" : zone.dump()) << '\n';
         md << "| " << head << " | " << r["cells"] << " | " << r["rpm"] << " | " << r["feed_kg_h"]
-           << " | " << cell(r["loading_kg"], "%.4f") << (steady ? "" : " (not steady)")
-           << " | " << cell(r["loading_std_kg"], "%.1e") << " | "
+           << " | " << r["initial_loading_kg"] << " | " << cell(r["loading_kg"], "%.4f") << (steady ? "" : " (not steady)")
+           << " | " << cell(r["loading_std_kg"], "%.1e") << " | " << cell(zoneShare, "%.0f%%")
+           << " | "
            << (steady ? cell(r["steady_time_s"], "%.1f") : "-") << " | "
            << cell(r["outflow_kg_h"], "%.2f") << " | " << cell(leak, "%.3g")
            << (ok.is_null() || ok.get<bool>() ? "" : " (leaks)") << " | "

@@ -7,13 +7,15 @@
 #include "cases/foam_dict.hpp"
 #include "cases/foam_numerics.hpp"
 #include "cases/mixer_geometry.hpp"
-#include "cases/mixer_sm_mesh.hpp"
+#include "cases/mixer_ogrid.hpp"
 
 namespace mixload::cases {
 
 namespace {
 
 namespace fs = std::filesystem;
+
+bool onOGrid(const scene::MixerScene& s) { return s.mesher == "ogrid"; }
 
 std::string vec(double x, double y, double z) {
     return "(" + num(x) + " " + num(y) + " " + num(z) + ")";
@@ -143,10 +145,13 @@ std::string controlDict(const scene::MixerScene& s, bool keepAllTimes) {
        << "        inletPatches (inlet);\n        outletPatches (outlet);\n"
        << "        feed " << num(s.feedKgS()) << ";  // kg/s\n"
        << "        window " << num(s.steadyWindow()) << ";\n"
+       << "        period " << num(lts || s.rpm <= 0 ? 0.0 : s.revolutionTime()) << ";\n"
+       << "        residenceFraction " << num(lts ? 0.0 : s.steadyResidence) << ";\n"
        << "        tolerance " << num(s.steadyTol) << ";\n"
        << "        flowTolerance " << num(s.steadyFlowTol) << ";\n"
        << "        minTime " << num(s.minTime) << ";\n"
        << "        pseudoTime " << (lts ? "yes" : "no") << ";\n"
+       << "        zone rotor;\n"
        << "        writeControl writeTime;\n    }\n}\n";
     return os.str();
 }
@@ -197,8 +202,9 @@ std::string transportProperties(const scene::MixerScene& s) {
 }
 
 std::string mrfProperties(const scene::MixerScene& s) {
-    // The zone already leaves out cells on these patches (topoSetDict); listing them keeps them
-    // still should a zone ever touch them.
+    // No zone cell touches these patches (O-grid: the zone ends in the tip gap and short of the
+    // end faces; snappy: topoSetDict leaves such cells out); listing them keeps them still should
+    // a zone ever touch them.
     return "MRF1\n{\n    cellZone rotor;\n    active yes;\n"
            "    nonRotatingPatches (wall inlet outlet weir);\n    " +
            rotationAxis() + "    omega " + num(s.omega()) + ";\n}\n";
@@ -211,8 +217,8 @@ std::string dynamicMeshDict(const scene::MixerScene& s) {
            rotationAxis() + "omega " + num(s.omega()) + ";\n";
 }
 
-// The boundaryField of a field: one entry per patch kind (the weir takes the wall's). The sliding
-// mesh adds the shaft's stationary stubs in the end layers and the AMI pair.
+// The boundaryField of a field: one entry per patch kind (the weir takes the wall's). The O-grid
+// adds the shaft's stubs in the stationary end layers, the sliding mesh also the AMI pairs.
 std::string boundary(const scene::MixerScene& s, const std::string& walls, const std::string& inlet,
                      const std::string& outlet, const std::string& shaft,
                      const std::string& paddles, const std::string& shaftEnds) {
@@ -221,9 +227,8 @@ std::string boundary(const scene::MixerScene& s, const std::string& walls, const
        << "    wall { " << walls << " }\n    weir { " << walls << " }\n"
        << "    inlet { " << inlet << " }\n    outlet { " << outlet << " }\n"
        << "    shaft { " << shaft << " }\n    paddles { " << paddles << " }\n";
-    if (s.method == "sm")
-        os << "    shaftEnds { " << shaftEnds << " }\n"
-           << "    \"AMI.*\" { type cyclicAMI; value $internalField; }\n";
+    if (onOGrid(s)) os << "    shaftEnds { " << shaftEnds << " }\n";
+    if (s.method == "sm") os << "    \"AMI.*\" { type cyclicAMI; value $internalField; }\n";
     os << "}\n";
     return os.str();
 }
@@ -278,11 +283,11 @@ void writeMixerMeshCase(const scene::MixerScene& s, const fs::path& dir, int np)
     barrelSurface(g).write(dir / "constant/triSurface/barrel.stl");
     shaftSurface(g).write(dir / "constant/triSurface/shaft.stl");
     paddleSurface(g).write(dir / "constant/triSurface/paddles.stl");
-    if (s.method == "sm") {
-        writeFoamFile(dir, "system/blockMeshDict", "dictionary", smBlockMeshDict(s));
-        writeFoamFile(dir, "system/topoSetDict", "dictionary", smTopoSetDict(s));
-        writeFoamFile(dir, "system/topoSetDict.inlet", "dictionary", smInletTopoSetDict(s));
-        writeFoamFile(dir, "system/createPatchDict", "dictionary", smCreatePatchDict());
+    if (onOGrid(s)) {
+        writeFoamFile(dir, "system/blockMeshDict", "dictionary", ogridBlockMeshDict(s));
+        writeFoamFile(dir, "system/topoSetDict", "dictionary", ogridTopoSetDict(s));
+        writeFoamFile(dir, "system/topoSetDict.inlet", "dictionary", ogridInletTopoSetDict(s));
+        writeFoamFile(dir, "system/createPatchDict", "dictionary", ogridCreatePatchDict());
     } else {
         writeFoamFile(dir, "system/blockMeshDict", "dictionary", blockMeshDict(s));
         writeFoamFile(dir, "system/snappyHexMeshDict", "dictionary", snappyHexMeshDict(s));
@@ -299,7 +304,7 @@ void writeMixerControlDict(const scene::MixerScene& s, const fs::path& dir, bool
 }
 
 std::vector<std::vector<std::string>> mixerMeshSteps(const scene::MixerScene& s) {
-    if (s.method == "sm") return smMeshSteps();
+    if (onOGrid(s)) return ogridMeshSteps();
     return {{"blockMesh"}, {"snappyHexMesh", "-overwrite"}, {"topoSet", "-constant"},
             {"checkMesh", "-constant"}};
 }

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The 3D continuous mixer as an interFoam case: generated surfaces and a castellated
-// blockMesh + snappyHexMesh mesh with a frozen-rotor cellZone (mrf, lts), or a blockMesh O-grid
-// whose rotor zone turns as a sliding mesh behind an AMI (sm, mixer_sm_mesh).
+// The 3D continuous mixer as an interFoam case. Mesh: a blockMesh O-grid (mixer_ogrid) whose rotor
+// zone is a frozen-rotor cellZone (mrf, lts) or turns as a sliding mesh behind an AMI (sm); or,
+// for mrf/lts only, the older castellated blockMesh + snappyHexMesh mesh (scene mesher = snappy).
 #pragma once
 #include <filesystem>
 #include <string>

@@ -26,7 +26,8 @@ Foam::functionObjects::loadingMonitor::loadingMonitor
     fvMeshFunctionObject(name, runTime, dict),
     fed_(0),
     out_(0),
-    steady_(false)
+    steady_(false),
+    zone_(-1)
 {
     read(dict);
     fed_ = getProperty<scalar>("fed", 0);
@@ -43,7 +44,7 @@ Foam::functionObjects::loadingMonitor::loadingMonitor
         history_.reset(new OFstream(dir/"loading.dat"));
         history_()
             << "# time loading_kg inflow_kg_s outflow_kg_s fed_kg out_kg"
-            << " max_powder_speed_m_s" << nl;
+            << " max_powder_speed_m_s zone_loading_kg" << nl;
         history_().precision(12);
     }
 }
@@ -74,10 +75,13 @@ bool Foam::functionObjects::loadingMonitor::read(const dictionary& dict)
     outlets_ = patchIDs(dict.get<wordRes>("outletPatches"));
     feed_ = dict.get<scalar>("feed");
     window_ = dict.get<scalar>("window");
+    period_ = dict.getOrDefault<scalar>("period", 0);
+    residenceFraction_ = dict.getOrDefault<scalar>("residenceFraction", 0);
     tol_ = dict.get<scalar>("tolerance");
     flowTol_ = dict.get<scalar>("flowTolerance");
     minTime_ = dict.get<scalar>("minTime");
     pseudoTime_ = dict.get<bool>("pseudoTime");
+    zone_ = mesh_.cellZones().findZoneID(dict.getOrDefault<word>("zone", word::null));
     return true;
 }
 
@@ -123,6 +127,16 @@ bool Foam::functionObjects::loadingMonitor::execute()
     (
         pos(alpha.primitiveField() - 0.5)*mag(U.primitiveField())
     );
+    scalar Mzone = 0;
+    if (zone_ >= 0)
+    {
+        const labelList& cells = mesh_.cellZones()[zone_];
+        forAll(cells, i)
+        {
+            Mzone += alpha[cells[i]]*mesh_.V()[cells[i]];
+        }
+        Mzone = rho_*returnReduce(Mzone, sumOp<scalar>());
+    }
     const scalar qIn = -patchFlow(inlets_);
     const scalar qOut = patchFlow(outlets_);
     const scalar dt = pseudoTime_ ? 1.0 : time_.deltaTValue();
@@ -134,7 +148,7 @@ bool Foam::functionObjects::loadingMonitor::execute()
     {
         history_()
             << t << ' ' << M << ' ' << qIn << ' ' << qOut << ' '
-            << fed_ << ' ' << out_ << ' ' << maxSpeed << endl;
+            << fed_ << ' ' << out_ << ' ' << maxSpeed << ' ' << Mzone << endl;
     }
 
     if (ts_.empty() || t - ts_.last() >= window_/50)
@@ -142,9 +156,13 @@ bool Foam::functionObjects::loadingMonitor::execute()
         ts_.append(t);
         ms_.append(M);
         cs_.append(out_);
+        const scalar W = mixload::steady::windowLength
+        (
+            window_, period_, residenceFraction_, M, feed_
+        );
         // Keep the last 2.5 windows: the test reads two.
         label drop = 0;
-        while (drop < ts_.size() - 2 && ts_[drop + 1] < t - 2.5*window_)
+        while (drop < ts_.size() - 2 && ts_[drop + 1] < t - 2.5*W)
         {
             ++drop;
         }
@@ -163,7 +181,7 @@ bool Foam::functionObjects::loadingMonitor::execute()
         std::vector<double> Cs(cs_.begin(), cs_.end());
         const mixload::steady::Verdict v = mixload::steady::test
         (
-            T, Ms, Cs, window_, feed_, tol_, flowTol_, minTime_
+            T, Ms, Cs, W, feed_, tol_, flowTol_, minTime_
         );
         if (v.steady && !steady_)
         {
@@ -180,6 +198,7 @@ bool Foam::functionObjects::loadingMonitor::execute()
                     << "loading_kg " << v.meanLoading << nl
                     << "previous_kg " << v.previousMean << nl
                     << "outflow_kg_s " << v.meanOutflow << nl
+                    << "window " << W << nl
                     << "drift " << v.drift << nl
                     << "flow_error " << v.flowError << nl;
             }

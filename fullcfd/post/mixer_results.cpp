@@ -26,7 +26,10 @@ fs::path monitorDir(const fs::path& caseDir) {
 std::vector<LoadingSample> readLoadingHistory(const fs::path& caseDir) {
     auto out = readSegments<LoadingSample>(
         monitorDir(caseDir), "loading.dat", [](std::istream& is, LoadingSample& s) {
-            return static_cast<bool>(is >> s.t >> s.loading >> s.inflow >> s.outflow >> s.fed >> s.out >> s.maxPowderSpeed);
+            if (!(is >> s.t >> s.loading >> s.inflow >> s.outflow >> s.fed >> s.out >> s.maxPowderSpeed))
+                return false;
+            if (!(is >> s.zoneLoading)) s.zoneLoading = std::nan("");
+            return true;
         });
     if (out.empty()) throw run::RunError("no loading history in " + monitorDir(caseDir).string());
     return out;
@@ -64,18 +67,23 @@ nlohmann::json mixerResult(const scene::MixerScene& s, const fs::path& caseDir) 
     const auto hist = readLoadingHistory(caseDir);
     const auto verdict = readSteadyVerdict(caseDir);
     const bool lts = s.method == "lts";
-    std::vector<double> t, M, C;
+    std::vector<double> t, M, C, Z;
     for (const auto& h : hist) {
         t.push_back(h.t);
         M.push_back(h.loading);
         C.push_back(h.out);
+        Z.push_back(h.zoneLoading);
     }
     // The final window: the steady test's window, or as much of it as the run has.
     const double end = t.back();
-    const double W = std::min(s.steadyWindow(), end - t.front());
-    double mean = M.back(), stdev = 0, outflow = hist.back().outflow;
+    const double W = std::min(verdict && verdict->contains("window")
+                                  ? (*verdict)["window"].get<double>()
+                                  : s.steadyWindow(M.back()),
+                              end - t.front());
+    double mean = M.back(), stdev = 0, outflow = hist.back().outflow, zone = Z.back();
     if (W > 0) {
         mean = steady::windowMean(t, M, end - W, end);
+        zone = steady::windowMean(t, Z, end - W, end);
         const double sq = [&] {
             std::vector<double> d2;
             for (double m : M) d2.push_back((m - mean) * (m - mean));
@@ -102,6 +110,9 @@ nlohmann::json mixerResult(const scene::MixerScene& s, const fs::path& caseDir) 
                      {"steady", verdict.has_value()},
                      {"steady_time_s", verdict ? nlohmann::json((*verdict)["time"]) : nlohmann::json()},
                      {"outflow_kg_h", outflow * 3600.0},
+                     // The part of the loading that the rotor's frame moves (mrf, lts) or that
+                     // turns with the mesh (sm); the rest rests in stationary cells.
+                     {"rotor_zone_loading_kg", std::isfinite(zone) ? nlohmann::json(zone) : nlohmann::json()},
                      {"feed_kg_h", s.feedKgH},
                      {"rpm", s.rpm},
                      {"initial_loading_kg", first.loading},

@@ -13,6 +13,7 @@ namespace mixload::post {
 
 struct LoadingSample {
     double t, loading, inflow, outflow, fed, out, maxPowderSpeed;
+    double zoneLoading;  // powder in the rotor cellZone [kg]; NaN in histories from before it
 };
 
 // The loading monitor's per-step history, merged across restarts.

@@ -11,6 +11,7 @@
 #include "common/hash.hpp"
 #include "common/input_error.hpp"
 #include "muILaw.H"
+#include "steadyLoading.H"
 
 namespace mixload::scene {
 
@@ -85,6 +86,9 @@ void MixerScene::validate() const {
         throw InputError("rheology", rheology, "muI|muIRegularised|schaeffer");
     if (method != "mrf" && method != "lts" && method != "sm")
         throw InputError("method", method, "mrf|lts|sm");
+    if (mesher != "ogrid" && mesher != "snappy") throw InputError("mesher", mesher, "ogrid|snappy");
+    if (method == "sm" && mesher != "ogrid")
+        throw InputError("mesher", mesher, "ogrid for --method sm (the AMI needs the O-grid)");
     if (etaMax) requirePositive("eta-max", *etaMax);
     requirePositive("p-min", pMin);
     requireRange("rpm", rpm, 0.0, 2000.0);  // 0: a resting bed (checks)
@@ -96,6 +100,7 @@ void MixerScene::validate() const {
     requireRange("end-time", endTime, 0.01, 1e5, false, true);
     requireRange("lts-iterations", ltsIterations, 10, 10'000'000);
     requireRange("steady-window-revs", steadyWindowRevs, 0.5, 100.0);
+    requireRange("steady-window-residence", steadyResidence, 0.0, 10.0);
     requireRange("steady-tol", steadyTol, 0.0, 0.5, false, true);
     requireRange("steady-flow-tol", steadyFlowTol, 0.0, 1.0, false, true);
     requireRange("min-time", minTime, 0.0, 1e5);
@@ -123,6 +128,13 @@ double MixerScene::steadyWindow() const {
     // a "revolution" is taken as 1 s.
     if (method == "lts") return std::max(200.0, 100.0 * steadyWindowRevs);
     return steadyWindowRevs * (rpm > 0 ? revolutionTime() : 1.0);
+}
+
+double MixerScene::steadyWindow(double loadingKg) const {
+    // Pseudo-time has no residence time in iterations: lts keeps its fixed window.
+    if (method == "lts") return steadyWindow();
+    return steady::windowLength(steadyWindow(), rpm > 0 ? revolutionTime() : 0.0,
+                                steadyResidence, loadingKg, feedKgS());
 }
 
 nlohmann::json MixerScene::toJson() const {
@@ -165,6 +177,11 @@ nlohmann::json MixerScene::toJson() const {
             {"gravity_m_s2", gravity}};
     // Only a non-default limit enters the record, so hashes of existing runs stay valid.
     if (maxCourant != MixerScene{}.maxCourant) j["max_courant"] = maxCourant;
+    // Frozen-rotor runs recorded before the O-grid existed were all on the snappy mesh, and the
+    // sliding mesh has only ever used the O-grid: the key enters only where it is news.
+    if (method != "sm" && mesher != "snappy") j["mesher"] = mesher;
+    // Likewise the residence-time window: runs before it had windows of revolutions only.
+    if (method != "lts" && steadyResidence > 0) j["steady_window_residence"] = steadyResidence;
     return j;
 }
 
@@ -261,6 +278,7 @@ MixerScene parseMixerScene(const std::string& text, const std::string& origin) {
     s.levelCells = {mesh.number("coarse_cell_m", s.levelCells[0]),
                     mesh.number("medium_cell_m", s.levelCells[1]),
                     mesh.number("fine_cell_m", s.levelCells[2])};
+    s.mesher = mesh.text("mesher", s.mesher);
     for (auto* sec : {&barrel, &imp, &weir, &inlet, &powder, &op, &mesh}) sec->checkKnown();
     for (int i = 0; i < 3; ++i)
         requireRange(std::string("mesh.") + (i == 0 ? "coarse" : i == 1 ? "medium" : "fine") +

@@ -58,11 +58,15 @@ struct MixerScene {
     double rpm = 39, feedKgH = 5, initialLoadingKg = 0.3;
     std::string method = "mrf";    // mrf | lts | sm
     std::string mesh = "coarse";   // coarse | medium | fine | custom
+    // ogrid: blockMesh O-grid, smooth bore, rotor zone up to the middle of the tip gap (every
+    // method); snappy: castellated snappyHexMesh, zone minus the wall-touching cells (mrf, lts).
+    std::string mesher = "ogrid";
     double cellSize = 0.005;       // background cell [m]; the impeller and zone are refined once
     std::array<double, 3> levelCells{0.005, 0.0035, 0.0025};  // coarse, medium, fine from the file
     double endTime = 120;          // cap [s] (lts: pseudo-time iterations are capped separately)
     int ltsIterations = 20000;     // lts cap
-    double steadyWindowRevs = 3;   // steady test: window of this many revolutions ...
+    double steadyWindowRevs = 3;   // steady test: window of at least this many revolutions ...
+    double steadyResidence = 0.5;  // ... and this share of the residence time M / feed ...
     double steadyTol = 0.02;       // ... consecutive window means within this fraction ...
     double steadyFlowTol = 0.10;   // ... and mean outflow within this fraction of the feed
     double minTime = 0;            // no steady verdict before this time [s]
@@ -79,7 +83,9 @@ struct MixerScene {
     double etaMaxValue() const;
     double muSCase() const;
     double muDCase() const;
-    double steadyWindow() const;   // [s], or iterations for lts
+    double steadyWindow() const;   // shortest window [s], or iterations for lts
+    // The window for a loading M [kg] (steady::windowLength with this scene's settings).
+    double steadyWindow(double loadingKg) const;
 
     nlohmann::json toJson() const;  // canonical: every input that changes the result
     std::string hash() const;

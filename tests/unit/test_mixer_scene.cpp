@@ -49,6 +49,23 @@ TEST(MixerScene, HashFollowsEveryInput) {
     EXPECT_NE(a.hash(), b.hash());
 }
 
+TEST(MixerScene, OnlyNewSettingsEnterTheHash) {
+    // Runs recorded on the snappy mesh with revolutions-only windows keep their hashes.
+    auto a = parse("");
+    EXPECT_EQ(a.mesher, "ogrid");
+    EXPECT_EQ(a.toJson()["mesher"], "ogrid");
+    EXPECT_EQ(a.toJson()["steady_window_residence"], 0.5);
+    a.mesher = "snappy";
+    a.steadyResidence = 0;
+    EXPECT_FALSE(a.toJson().contains("mesher"));
+    EXPECT_FALSE(a.toJson().contains("steady_window_residence"));
+    a.method = "sm";
+    EXPECT_THROW(a.validate(), InputError);
+    a.mesher = "ogrid";
+    EXPECT_FALSE(a.toJson().contains("mesher"));
+    expectInvalid("[mesh]\nmesher = \"tet\"\n", "invalid mesher = tet: allowed ogrid|snappy");
+}
+
 TEST(MixerScene, RejectsImpossibleGeometry) {
     expectInvalid("[impeller]\npaddle_tip_clearance_m = -0.001\n", "impeller.paddle_tip_clearance_m");
     expectInvalid("[barrel]\nbore_m = 0.05\n[impeller]\nshaft_diameter_m = 0.045\n",

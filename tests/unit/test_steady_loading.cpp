@@ -99,3 +99,29 @@ TEST(SteadyLoading, NoFeedRestingBedIsSteady) {
     const auto h = make(10, 0.01, 0.0, [](double) { return 0.3; });
     EXPECT_TRUE(test(h.t, h.M, h.C, 2.0, 0.0, 0.02, 0.1, 0).steady);
 }
+
+TEST(SteadyLoading, WindowCoversAShareOfTheResidenceTimeInWholeRevolutions) {
+    using mixload::steady::windowLength;
+    // 0.02 kg at 5 kg/h: residence 14.4 s, half of it 7.2 s -> 5 revolutions of 60/39 s.
+    EXPECT_NEAR(windowLength(kW, kRev, 0.5, 0.02, kFeed), 5 * kRev, 1e-12);
+    // A nearly empty mixer keeps the revolutions' window, and fraction 0 is the old rule.
+    EXPECT_NEAR(windowLength(kW, kRev, 0.5, 1e-4, kFeed), kW, 1e-12);
+    EXPECT_NEAR(windowLength(kW, kRev, 0.0, 0.02, kFeed), kW, 1e-12);
+    // No feed (resting bed) or no period: no residence time, no rounding.
+    EXPECT_NEAR(windowLength(2.5, 0, 0.5, 0.3, 0), 2.5, 1e-12);
+    EXPECT_NEAR(windowLength(2.5, 0, 0.5, 0.02, kFeed), 7.2, 1e-12);
+}
+
+TEST(SteadyLoading, SlowOscillationLongerThanTheRevolutionsWindowIsNotSteady) {
+    // A loading that wanders by +-6% with a 20 s period (as measured at 254 rpm, 5 kg/h) and a
+    // window of 3 revolutions at 254 rpm: two 0.7 s windows near a crest agree, a window of half
+    // the residence time does not.
+    const double rev = 60.0 / 254, feed = kFeed;
+    const auto M = [](double t) { return 0.0187 * (1 + 0.06 * std::sin(2 * std::numbers::pi * t / 20.0)); };
+    const auto h = make(35.0, 0.005, feed, M);  // ends near a crest (t = 25 s + 10 s)
+    const double shortW = 3 * rev;
+    const double longW = mixload::steady::windowLength(shortW, rev, 0.5, h.M.back(), feed);
+    EXPECT_GT(longW, 20 * shortW / 3 / 2);
+    EXPECT_LT(test(h.t, h.M, h.C, shortW, feed, 0.01, 1.0, 0).drift, 0.01);
+    EXPECT_FALSE(test(h.t, h.M, h.C, longW, feed, 0.01, 1.0, 0).steady);
+}

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "cases/mixer_sm_mesh.hpp"
+#include "cases/mixer_ogrid.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -16,13 +16,15 @@ constexpr double kPi = std::numbers::pi;
 
 std::string vec(Vec3 v) { return "(" + num(v[0]) + " " + num(v[1]) + " " + num(v[2]) + ")"; }
 
-// The O-grid's vertices. Radial stations: shaft, paddle tips, interface, bore. Axial stations:
-// feed face, rotor start, rotor end, discharge face. The stationary region owns a full set; the
-// rotor owns its own copies at the interface so that blockMesh leaves the two sides unmerged
-// (they become the AMI pair).
+// The O-grid's vertices. Radial stations: shaft, paddle tips, zone boundary, bore. Axial stations:
+// feed face, rotor start, rotor end, discharge face. The stationary region owns a full set. For
+// the sliding mesh the rotor owns its own copies at the interface, so that blockMesh leaves the
+// two sides unmerged (they become the AMI pair); for the frozen rotor it shares them (one
+// conformal mesh, the zone is only a cellZone).
 class OGrid {
 public:
-    explicit OGrid(const scene::MixerScene& s) : g_(s.geometry), grid_(smGrid(s)) {
+    OGrid(const scene::MixerScene& s, bool split)
+        : g_(s.geometry), grid_(ogridSize(s)), split_(split) {
         r_ = {g_.shaftRadius(), g_.tipRadius(), g_.rotorRadius(), g_.radius()};
         x_ = {0.0, g_.rotorX0(), g_.rotorX1(), g_.length};
         phi0_ = weirChordPhi(g_);
@@ -36,7 +38,7 @@ public:
     int id(bool rotor, int ir, int k, int ix) const {
         const int S = grid_.sectors;
         k = ((k % S) + S) % S;
-        if (!rotor) return (ix * 4 + ir) * S + k;
+        if (!rotor || !split_) return (ix * 4 + ir) * S + k;
         return 16 * S + ((ix - 1) * 3 + ir) * S + k;
     }
     std::string radialFace(bool rotor, int ir, int k, int xa, int xb) const {
@@ -65,7 +67,8 @@ private:
                std::to_string(d) + ")";
     }
     const scene::MixerGeometry& g_;
-    SmGrid grid_;
+    OGridSize grid_;
+    bool split_;
     std::array<double, 4> r_{}, x_{};
     double phi0_ = 0;
 };
@@ -82,16 +85,16 @@ std::string patch(const std::string& name, const std::string& type,
 
 }  // namespace
 
-long SmGrid::cells() const {
+long OGridSize::cells() const {
     const long around = static_cast<long>(sectors) * perSector;
     const long radial = radialInner + radialTip + radialOuter;
     return around * (radial * 2 * axialEnd + radial * axialMid);
 }
 
-SmGrid smGrid(const scene::MixerScene& s) {
+OGridSize ogridSize(const scene::MixerScene& s) {
     const auto& g = s.geometry;
     const double h = s.cellSize;
-    SmGrid c;
+    OGridSize c;
     c.perSector = std::max(2, static_cast<int>(std::ceil(g.radius() * 2 * kPi / c.sectors / h)));
     c.radialInner = std::max(2, static_cast<int>(std::ceil((g.tipRadius() - g.shaftRadius()) / h)));
     c.radialTip = std::max(1, static_cast<int>(std::lround((g.rotorRadius() - g.tipRadius()) / h)));
@@ -109,9 +112,10 @@ SmGrid smGrid(const scene::MixerScene& s) {
     return c;
 }
 
-std::string smBlockMeshDict(const scene::MixerScene& s) {
-    const OGrid o(s);
-    const SmGrid c = smGrid(s);
+std::string ogridBlockMeshDict(const scene::MixerScene& s) {
+    const bool ami = s.method == "sm";
+    const OGrid o(s, ami);
+    const OGridSize c = ogridSize(s);
     const int S = o.sectors();
     const int nr[3] = {c.radialInner, c.radialTip, c.radialOuter};
     const int nx[3] = {c.axialEnd, c.axialMid, c.axialEnd};
@@ -120,7 +124,7 @@ std::string smBlockMeshDict(const scene::MixerScene& s) {
     for (int ix = 0; ix < 4; ++ix)
         for (int ir = 0; ir < 4; ++ir)
             for (int k = 0; k < S; ++k) os << "    " << vec(o.point(ir, k, ix)) << '\n';
-    for (int ix = 1; ix <= 2; ++ix)
+    for (int ix = 1; ami && ix <= 2; ++ix)
         for (int ir = 0; ir < 3; ++ir)
             for (int k = 0; k < S; ++k) os << "    " << vec(o.point(ir, k, ix)) << '\n';
     os << ");\n\nblocks\n(\n";
@@ -140,7 +144,7 @@ std::string smBlockMeshDict(const scene::MixerScene& s) {
     };
     for (int ix = 0; ix < 4; ++ix)
         for (int ir = 0; ir < 4; ++ir) arcs(false, ir, ix);
-    for (int ix = 1; ix <= 2; ++ix)
+    for (int ix = 1; ami && ix <= 2; ++ix)
         for (int ir = 0; ir < 3; ++ir) arcs(true, ir, ix);
     os << ");\n\nboundary\n(\n";
 
@@ -174,7 +178,7 @@ std::string smBlockMeshDict(const scene::MixerScene& s) {
        << patch("shaftEnds", "wall", shaftEnds) << patch("paddles", "wall", {})
        ;
     const char* part[3] = {"Side", "Feed", "Discharge"};
-    for (int i = 0; i < 3; ++i) {
+    for (int i = 0; ami && i < 3; ++i) {
         const std::string rotor = std::string("AMI") + part[i] + "Rotor";
         const std::string stator = std::string("AMI") + part[i] + "Stator";
         os << patch(rotor, "cyclicAMI", amiR[i],
@@ -186,9 +190,9 @@ std::string smBlockMeshDict(const scene::MixerScene& s) {
     return os.str();
 }
 
-std::string smTopoSetDict(const scene::MixerScene& s) {
+std::string ogridTopoSetDict(const scene::MixerScene& s) {
     const auto& g = s.geometry;
-    const SmGrid c = smGrid(s);
+    const OGridSize c = ogridSize(s);
     std::ostringstream os;
     os << "actions\n(\n";
     for (int i = 0; i < g.paddleCount; ++i) {
@@ -202,14 +206,15 @@ std::string smTopoSetDict(const scene::MixerScene& s) {
            << vec(e1) << "; k " << vec(e2) << "; }\n";
     }
     // A paddle cell on the interface would punch a hole in the AMI.
-    os << "    { name paddleCells; type cellSet; action subtract; source patchToCell; "
-          "patch \"AMI.*\"; }\n"
-       << "    { name keep; type cellSet; action new; source cellToCell; set paddleCells; }\n"
+    if (s.method == "sm")
+        os << "    { name paddleCells; type cellSet; action subtract; source patchToCell; "
+              "patch \"AMI.*\"; }\n";
+    os << "    { name keep; type cellSet; action new; source cellToCell; set paddleCells; }\n"
        << "    { name keep; type cellSet; action invert; }\n);\n";
     return os.str();
 }
 
-std::string smInletTopoSetDict(const scene::MixerScene& s) {
+std::string ogridInletTopoSetDict(const scene::MixerScene& s) {
     const auto& g = s.geometry;
     std::ostringstream os;
     os << "actions\n(\n"
@@ -220,13 +225,13 @@ std::string smInletTopoSetDict(const scene::MixerScene& s) {
     return os.str();
 }
 
-std::string smCreatePatchDict() {
+std::string ogridCreatePatchDict() {
     return "pointSync false;\n\npatches\n(\n    {\n        name inlet;\n"
            "        patchInfo { type patch; }\n        constructFrom set;\n"
            "        set inletFaces;\n    }\n);\n";
 }
 
-std::vector<std::vector<std::string>> smMeshSteps() {
+std::vector<std::vector<std::string>> ogridMeshSteps() {
     // createPatch drops patches without faces, so the paddles are cut out (and their patch
     // filled) first; the inlet faces are picked after that, on the final face numbering.
     return {{"blockMesh"},

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The sliding-mesh (sm) mixer mesh: a blockMesh O-grid whose rotating zone is bounded by exact
-// block faces, so its AMI interface is the same cylinder on both sides, and paddles cut out of the
-// zone as stair-stepped cells (topoSet + subsetMesh). No snappyHexMesh: block faces give an exact,
-// repeatable interface and an outlet/weir split on block edges.
+// The mixer's O-grid: a blockMesh mesh whose rotating zone is bounded by exact block faces (a
+// cylinder in the middle of the tip gap, short of both end faces), with the paddles cut out of the
+// zone as stair-stepped cells (topoSet + subsetMesh). For the sliding mesh (sm) the zone's faces
+// are an AMI interface; for the frozen rotor (mrf, lts) the mesh is conformal and the zone reaches
+// the paddle tips, so no powder rests in cells that the rotor frame leaves out. No
+// snappyHexMesh: block faces give an exact, repeatable zone and an outlet/weir split on block edges.
 #pragma once
 #include <string>
 #include <vector>
@@ -12,7 +14,7 @@
 namespace mixload::cases {
 
 // Sizes of the O-grid for a scene (cell counts per block direction).
-struct SmGrid {
+struct OGridSize {
     int sectors = 8;        // angular blocks; sector edges 0 and sectors/2 lie on the weir chord
     int perSector = 0;      // cells per sector around
     int radialInner = 0;    // shaft -> paddle tips
@@ -24,15 +26,15 @@ struct SmGrid {
     long cells() const;     // before the paddles are cut out
 };
 
-SmGrid smGrid(const scene::MixerScene& s);
+OGridSize ogridSize(const scene::MixerScene& s);
 
-std::string smBlockMeshDict(const scene::MixerScene& s);
+std::string ogridBlockMeshDict(const scene::MixerScene& s);
 // The paddle cells (cut out) and the cells kept.
-std::string smTopoSetDict(const scene::MixerScene& s);
+std::string ogridTopoSetDict(const scene::MixerScene& s);
 // The inlet port's faces on the feed end face (system/topoSetDict.inlet).
-std::string smInletTopoSetDict(const scene::MixerScene& s);
-std::string smCreatePatchDict();
+std::string ogridInletTopoSetDict(const scene::MixerScene& s);
+std::string ogridCreatePatchDict();
 
-std::vector<std::vector<std::string>> smMeshSteps();
+std::vector<std::vector<std::string>> ogridMeshSteps();
 
 }  // namespace mixload::cases
