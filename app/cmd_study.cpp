@@ -145,7 +145,8 @@ void addStudy(CLI::App& app, Action& action) {
             st.progress = !mo->json;
             const auto r = experiments::runMixerStudy(st);
             if (mo->json) std::cout << r.dump(2) << '\n';
-            else std::cout << readFile(r["table_md"].get<std::string>()) << "plot: " << r["plot"].get<std::string>() << '\n';
+            else std::cout << readFile(r["table_md"].get<std::string>()) << "plot: " << r["plot"].get<std::string>()
+                           << "\nM(t) of every run: " << r["histories_plot"].get<std::string>() << '\n';
             for (const auto& row : r["rows"])
                 if (row.contains("error")) return 1;
             return 0;

@@ -66,6 +66,33 @@ std::string plotStudy(const fs::path& out, const nlohmann::json& rows) {
     return runGnuplot(out, "study.gp", gp.str());
 }
 
+// M(t) of every run on one set of axes: how each run approached (or did not reach) its loading.
+std::string plotHistories(const fs::path& out, const nlohmann::json& rows,
+                          const std::vector<nlohmann::json>& histories) {
+    std::ostringstream gp;
+    gp << "set terminal pngcairo size 1000,600 noenhanced\nset output 'histories.png'\n"
+       << "set grid\nset key right top\nset xlabel 't [s] (lts: pseudo-time iteration)'\n"
+       << "set ylabel 'loading M [kg]'\nplot ";
+    bool first = true;
+    for (size_t i = 0; i < histories.size(); ++i) {
+        if (!histories[i].is_array() || histories[i].empty()) continue;
+        const auto& r = rows[i];
+        const std::string file = "history" + std::to_string(i) + ".dat";
+        std::ofstream os(out / file);
+        for (const auto& p : histories[i]) os << p[0].get<double>() << ' ' << p[1].get<double>() << '\n';
+        std::ostringstream title;
+        title << r["method"].get<std::string>() << ' ' << r["mesh"].get<std::string>() << ", "
+              << r["rpm"].get<double>() << " rpm, " << r["feed_kg_h"].get<double>() << " kg/h, from "
+              << r["initial_loading_kg"].get<double>() << " kg";
+        gp << (first ? "" : ", ") << "'" << file << "' using 1:2 with lines lw 2 title '" << title.str()
+           << "'";
+        first = false;
+    }
+    if (first) return "no run has a history";
+    gp << '\n';
+    return runGnuplot(out, "histories.gp", gp.str());
+}
+
 std::string cell(const nlohmann::json& v, const char* fmt) {
     if (v.is_null()) return "-";
     char b[64];
@@ -82,12 +109,12 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
     nlohmann::json rows = nlohmann::json::array();
     for (const auto& s : study.scenes)
         rows.push_back({{"method", s.method},
-                        {"mesh", (s.mesh == "custom" ? formatNumber(s.cellSize) + " m" : s.mesh) +
-                                     (s.method != "sm" && s.mesher == "snappy" ? " snappy" : "")},
+                        {"mesh", s.meshLabel()},
                         {"rpm", s.rpm},
                         {"feed_kg_h", s.feedKgH},
                         {"initial_loading_kg", s.initialLoadingKg},
                         {"scene_hash", s.hash()}});
+    std::vector<nlohmann::json> histories(study.scenes.size());
 
     runPool<nlohmann::json>(
         study.scenes.size(), study.jobs, "mixer study", study.progress,
@@ -109,6 +136,7 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
                                   "end_time_s", "cells", "wall_seconds", "core_seconds", "error",
                                   "run_dir"})
                 if (r.contains(k)) rows[i][k] = r[k];
+            if (r.contains("history")) histories[i] = r["history"];
         });
 
     std::ostringstream csv, md;
@@ -153,11 +181,14 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
     writeFileAtomic(study.out / "table.csv", csv.str());
     writeFileAtomic(study.out / "table.md", md.str());
     const std::string warn = plotStudy(study.out, rows);
+    const std::string hwarn = plotHistories(study.out, rows, histories);
     nlohmann::json result = {{"rows", rows},
                              {"table_csv", (study.out / "table.csv").string()},
                              {"table_md", (study.out / "table.md").string()},
-                             {"plot", warn.empty() ? (study.out / "study.png").string() : ""}};
+                             {"plot", warn.empty() ? (study.out / "study.png").string() : ""},
+                             {"histories_plot", hwarn.empty() ? (study.out / "histories.png").string() : ""}};
     if (!warn.empty()) result["plot_warning"] = warn;
+    if (!hwarn.empty()) result["histories_plot_warning"] = hwarn;
     writeFileAtomic(study.out / "study.json", result.dump(2));
     return result;
 }

@@ -165,7 +165,7 @@ std::string plotLoading(const scene::MixerScene& s, const fs::path& caseDir) {
     std::ostringstream gp;
     gp << "set terminal pngcairo size 1000,700 noenhanced\nset output 'loading.png'\n"
        << "set multiplot layout 2,1 title '" << s.name << ", " << s.method << ", " << s.rpm
-       << " rpm, feed " << s.feedKgH << " kg/h, " << s.mesh << " mesh'\n"
+       << " rpm, feed " << s.feedKgH << " kg/h, " << s.meshLabel() << " mesh'\n"
        << "set grid\nset xlabel '" << tl << "'\nset ylabel 'mixer loading M [kg]'\n"
        << "plot 'loading_history.dat' using 1:2 with lines lw 2 title 'M'\n"
        << "set ylabel 'powder flow [kg/h]'\n"

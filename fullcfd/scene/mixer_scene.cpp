@@ -76,6 +76,11 @@ void MixerScene::setMesh(const std::string& level) {
     throw InputError("mesh", level, "coarse|medium|fine");
 }
 
+std::string MixerScene::meshLabel() const {
+    return (mesh == "custom" ? formatNumber(cellSize) + " m" : mesh) +
+           (method != "sm" && mesher == "snappy" ? " snappy" : "");
+}
+
 void MixerScene::validate() const {
     geometry.validate();
     requireRange("max-courant", maxCourant, 0.01, 5.0);

@@ -75,6 +75,8 @@ struct MixerScene {
 
     void validate() const;
     void setMesh(const std::string& level);  // coarse | medium | fine
+    // "coarse", or "0.01 m" for an explicit cell size; " snappy" appended for the castellated mesh.
+    std::string meshLabel() const;
     double bulkDensity() const { return material.bulkDensity(); }
     double omega() const;          // [rad/s]
     double revolutionTime() const { return rpm > 0 ? 60.0 / rpm : 1e30; }
