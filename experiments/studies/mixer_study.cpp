@@ -132,7 +132,7 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
         [&](size_t i, const nlohmann::json& r) {
             for (const char* k : {"loading_kg", "loading_std_kg", "steady", "steady_time_s",
                                   "outflow_kg_h", "powder_leak_kg_h", "powder_balance_ok",
-                                  "rotor_zone_loading_kg",
+                                  "rotor_zone_loading_kg", "dense_loading_kg", "warning",
                                   "end_time_s", "cells", "wall_seconds", "core_seconds", "error",
                                   "run_dir"})
                 if (r.contains(k)) rows[i][k] = r[k];
@@ -142,23 +142,25 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
     std::ostringstream csv, md;
     csv << "method,mesh,cells,rpm,feed_kg_h,initial_loading_kg,loading_kg,loading_std_kg,steady,steady_time_s,"
            "outflow_kg_h,powder_leak_kg_h,powder_balance_ok,end_time_s,wall_seconds,core_seconds,"
-           "rotor_zone_loading_kg\n";
+           "rotor_zone_loading_kg,dense_loading_kg\n";
     md << "| method | mesh | cells | rpm | feed [kg/h] | start [kg] | M [kg] | std [kg] | in rotor zone "
-          "| steady at [s] | outflow [kg/h] | leak [kg/h] | simulated | wall [s] | core [s] |\n"
-          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+          "| in dense cells | steady at [s] | outflow [kg/h] | leak [kg/h] | simulated | wall [s] | core [s] |\n"
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& r : rows) {
         const std::string head = r["method"].get<std::string>() + " | " + r["mesh"].get<std::string>();
         if (!r.contains("loading_kg")) {
             md << "| " << head << " | | " << r["rpm"] << " | " << r["feed_kg_h"] << " | "
-               << r["initial_loading_kg"] << " | failed: see run dir ||||||||\n";
+               << r["initial_loading_kg"] << " | failed: see run dir |||||||||\n";
             continue;
         }
         const bool steady = r["steady"].get<bool>();
         const nlohmann::json leak = r.value("powder_leak_kg_h", nlohmann::json());
         const nlohmann::json ok = r.value("powder_balance_ok", nlohmann::json());
         const nlohmann::json zone = r.value("rotor_zone_loading_kg", nlohmann::json());
-        const nlohmann::json zoneShare =
-            zone.is_null() ? zone : nlohmann::json(100.0 * zone.get<double>() / r["loading_kg"].get<double>());
+        const auto share = [&](const nlohmann::json& part) {
+            return part.is_null() ? part : nlohmann::json(100.0 * part.get<double>() / r["loading_kg"].get<double>());
+        };
+        const nlohmann::json dense = r.value("dense_loading_kg", nlohmann::json());
         csv << r["method"].get<std::string>() << ',' << r["mesh"].get<std::string>() << ','
             << r["cells"] << ',' << r["rpm"] << ',' << r["feed_kg_h"] << ','
             << r["initial_loading_kg"] << ',' << r["loading_kg"] << ','
@@ -167,11 +169,11 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
             << (leak.is_null() ? "" : leak.dump()) << ','
             << (ok.is_null() ? "" : (ok.get<bool>() ? "yes" : "no")) << ',' << r["end_time_s"]
             << ',' << r["wall_seconds"] << ',' << r["core_seconds"] << ','
-            << (zone.is_null() ? "" : zone.dump()) << '\n';
+            << (zone.is_null() ? "" : zone.dump()) << ',' << (dense.is_null() ? "" : dense.dump()) << '\n';
         md << "| " << head << " | " << r["cells"] << " | " << r["rpm"] << " | " << r["feed_kg_h"]
            << " | " << r["initial_loading_kg"] << " | " << cell(r["loading_kg"], "%.4f") << (steady ? "" : " (not steady)")
-           << " | " << cell(r["loading_std_kg"], "%.1e") << " | " << cell(zoneShare, "%.0f%%")
-           << " | "
+           << " | " << cell(r["loading_std_kg"], "%.1e") << " | " << cell(share(zone), "%.0f%%")
+           << " | " << cell(share(dense), "%.0f%%") << " | "
            << (steady ? cell(r["steady_time_s"], "%.1f") : "-") << " | "
            << cell(r["outflow_kg_h"], "%.2f") << " | " << cell(leak, "%.3g")
            << (ok.is_null() || ok.get<bool>() ? "" : " (leaks)") << " | "

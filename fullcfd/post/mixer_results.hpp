@@ -14,6 +14,7 @@ namespace mixload::post {
 struct LoadingSample {
     double t, loading, inflow, outflow, fed, out, maxPowderSpeed;
     double zoneLoading;  // powder in the rotor cellZone [kg]; NaN in histories from before it
+    double denseLoading;  // powder in cells more than half powder [kg]; NaN likewise
 };
 
 // The loading monitor's per-step history, merged across restarts.

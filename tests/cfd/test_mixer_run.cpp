@@ -182,6 +182,21 @@ TEST(MixerRun, SmLeaksPowderAndSaysSo) {
     EXPECT_NE(r["warning"].get<std::string>().find("not conserved"), std::string::npos);
 }
 
+TEST(MixerRun, UnresolvedPowderLayerIsFlagged) {
+    // Filled from empty, the fed powder is a layer far thinner than a 1 cm cell: mixload says so.
+    // A deposit is a bed: nearly all of it lies in cells more than half powder, no warning.
+    const auto empty = runMixer("empty", {"--initial-loading-kg", "0", "--end-time", "0.5"});
+    ASSERT_FALSE(empty.is_null());
+    EXPECT_LT(empty["dense_loading_kg"].get<double>(), 0.5 * empty["loading_kg"].get<double>());
+    EXPECT_NE(empty.value("warning", "").find("thinner than the mesh resolves"), std::string::npos);
+    const auto bed = runMixer("bed", {"--initial-loading-kg", "0.03", "--end-time", "0.05"});
+    ASSERT_FALSE(bed.is_null());
+    EXPECT_GT(bed["dense_loading_kg"].get<double>(), 0.8 * bed["loading_kg"].get<double>());
+    EXPECT_LE(bed["rotor_zone_loading_kg"].get<double>(), bed["loading_kg"].get<double>());
+    EXPECT_GT(bed["rotor_zone_loading_kg"].get<double>(), 0.3 * bed["loading_kg"].get<double>());
+    EXPECT_FALSE(bed.contains("warning"));
+}
+
 TEST(MixerRun, MrfZoneDrivesThePowderAtTipSpeed) {
     // 254 rpm: paddle tips at 0.047 m move at 1.25 m/s; the draining bed alone moves ~0.3 m/s.
     const auto r = runMixer("mrf-fast", {"--rpm", "254", "--end-time", "0.05"});
