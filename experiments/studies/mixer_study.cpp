@@ -70,8 +70,10 @@ std::string plotStudy(const fs::path& out, const nlohmann::json& rows) {
 std::string plotHistories(const fs::path& out, const nlohmann::json& rows,
                           const std::vector<nlohmann::json>& histories) {
     std::ostringstream gp;
-    gp << "set terminal pngcairo size 1000,600 noenhanced\nset output 'histories.png'\n"
-       << "set grid\nset key right top\nset xlabel 't [s] (lts: pseudo-time iteration)'\n"
+    // The key goes below the axes, and lines past the palette's 8 colours are dashed, so that a
+    // dozen runs stay readable.
+    gp << "set terminal pngcairo size 1000,750 noenhanced\nset output 'histories.png'\n"
+       << "set grid\nset key below maxrows 6\nset xlabel 't [s] (lts: pseudo-time iteration)'\n"
        << "set ylabel 'loading M [kg]'\nplot ";
     bool first = true;
     for (size_t i = 0; i < histories.size(); ++i) {
@@ -84,8 +86,8 @@ std::string plotHistories(const fs::path& out, const nlohmann::json& rows,
         title << r["method"].get<std::string>() << ' ' << r["mesh"].get<std::string>() << ", "
               << r["rpm"].get<double>() << " rpm, " << r["feed_kg_h"].get<double>() << " kg/h, from "
               << r["initial_loading_kg"].get<double>() << " kg";
-        gp << (first ? "" : ", ") << "'" << file << "' using 1:2 with lines lw 2 title '" << title.str()
-           << "'";
+        gp << (first ? "" : ", ") << "'" << file << "' using 1:2 with lines lw 2 lc " << i % 8 + 1
+           << " dt " << i / 8 % 5 + 1 << " title '" << title.str() << "'";
         first = false;
     }
     if (first) return "no run has a history";
