@@ -121,23 +121,23 @@ void addStudy(CLI::App& app, Action& action) {
             // Every scene is validated before the first run starts.
             for (const auto& method : mo->methods)
                 for (const auto& mesher : orBase(mo->meshers))
-                for (const auto& mesh : meshes)
-                    for (double rpm : mo->rpms)
-                        for (double feed : mo->feeds)
-                        for (const auto& start : orBase(mo->starts)) {
-                            MixerOptions opt = mo->base;
-                            opt.method = method;
-                            if (mesher) opt.mesher = *mesher;
-                            if (start) opt.initialLoadingKg = *start;
-                            if (!mesh.empty()) {
-                                // An entry is a level name or a cell size in metres.
-                                if (const auto h = parseNumber(mesh)) opt.cellSize = *h;
-                                else opt.mesh = mesh;
-                            }
-                            opt.rpm = rpm;
-                            opt.feedKgH = feed;
-                            st.scenes.push_back(opt.build());
-                        }
+                    for (const auto& mesh : meshes)
+                        for (double rpm : mo->rpms)
+                            for (double feed : mo->feeds)
+                                for (const auto& start : orBase(mo->starts)) {
+                                    MixerOptions opt = mo->base;
+                                    opt.method = method;
+                                    if (mesher) opt.mesher = *mesher;
+                                    if (start) opt.initialLoadingKg = *start;
+                                    if (!mesh.empty()) {
+                                        // An entry is a level name or a cell size in metres.
+                                        if (const auto h = parseNumber(mesh)) opt.cellSize = *h;
+                                        else opt.mesh = mesh;
+                                    }
+                                    opt.rpm = rpm;
+                                    opt.feedKgH = feed;
+                                    st.scenes.push_back(opt.build());
+                                }
             st.out = mo->out;
             st.runs = mo->runs;
             st.jobs = mo->jobs;

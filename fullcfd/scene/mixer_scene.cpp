@@ -135,11 +135,13 @@ double MixerScene::steadyWindow() const {
     return steadyWindowRevs * (rpm > 0 ? revolutionTime() : 1.0);
 }
 
+double MixerScene::steadyPeriod() const { return method == "lts" || rpm <= 0 ? 0.0 : revolutionTime(); }
+
+double MixerScene::steadyResidenceFraction() const { return method == "lts" ? 0.0 : steadyResidence; }
+
 double MixerScene::steadyWindow(double loadingKg) const {
-    // Pseudo-time has no residence time in iterations: lts keeps its fixed window.
-    if (method == "lts") return steadyWindow();
-    return steady::windowLength(steadyWindow(), rpm > 0 ? revolutionTime() : 0.0,
-                                steadyResidence, loadingKg, feedKgS());
+    return steady::windowLength(steadyWindow(), steadyPeriod(), steadyResidenceFraction(), loadingKg,
+                                feedKgS());
 }
 
 nlohmann::json MixerScene::toJson() const {

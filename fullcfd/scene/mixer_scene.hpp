@@ -86,7 +86,11 @@ struct MixerScene {
     double muSCase() const;
     double muDCase() const;
     double steadyWindow() const;   // shortest window [s], or iterations for lts
-    // The window for a loading M [kg] (steady::windowLength with this scene's settings).
+    // Windows are whole multiples of this [s]: a revolution (0: none, for lts and no rotation).
+    double steadyPeriod() const;
+    // Windows span at least this share of M / feed (0 for lts: iterations have no residence time).
+    double steadyResidenceFraction() const;
+    // The window for a loading M [kg] (steady::windowLength with the three settings above).
     double steadyWindow(double loadingKg) const;
 
     nlohmann::json toJson() const;  // canonical: every input that changes the result
