@@ -46,6 +46,8 @@ struct CampaignCmd {
     std::optional<double> cellSize, endTime, initialLoadingKg, steadyTol, steadyFlowTol;
     std::string mesher = "ogrid";
     double steadyResidence = scene::MixerScene{}.steadyResidence;
+    std::string numerics = scene::MixerScene{}.numerics.preset;
+    std::string verdict = scene::MixerScene{}.steadyVerdict;
     bool json = false, snapshots = false;
     std::string checkModel;
 };
@@ -69,6 +71,8 @@ nlohmann::json baseOf(const CampaignCmd& o, const std::string& kind) {
         if (o.steadyFlowTol) b["steady_flow_tol"] = *o.steadyFlowTol;
         b["mesher"] = o.mesher;
         b["steady_window_residence"] = o.steadyResidence;
+        b["numerics"] = o.numerics;
+        b["steady_verdict"] = o.verdict;
         return b;
     }
     if (o.cellSize || o.endTime || o.initialLoadingKg || o.steadyTol || o.steadyFlowTol)
@@ -96,6 +100,9 @@ scene::MixerScene mixerSceneFor(const nlohmann::json& base, const nlohmann::json
     // revolutions only: without the keys, their points keep those scenes (and hashes).
     m.mesher = base.value("mesher", std::string("snappy"));
     m.residence = base.value("steady_window_residence", 0.0);
+    // Likewise the numerics presets and the balance verdict: older bases ran legacy and windows.
+    m.numerics = base.value("numerics", std::string("legacy"));
+    m.verdict = base.value("steady_verdict", std::string("windows"));
     const double muS0 = m.build().material.muS;
     if (p.contains("mu_s")) m.muS = param(p, "mu_s");
     if (p.contains("delta_mu")) m.muD = m.muS.value_or(muS0) + param(p, "delta_mu");
@@ -470,6 +477,10 @@ void addCampaign(CLI::App& app, Action& action) {
     cr->add_option("--mesher", o->mesher, "Mixer: ogrid | snappy")->capture_default_str();
     cr->add_option("--steady-window-residence", o->steadyResidence,
                    "Mixer: steady-test windows span at least this share of the residence time M/feed")
+        ->capture_default_str();
+    cr->add_option("--numerics", o->numerics, "Mixer: solver settings preset fast | legacy")
+        ->capture_default_str();
+    cr->add_option("--steady-verdict", o->verdict, "Mixer: balance | windows (see mixer --help)")
         ->capture_default_str();
     cr->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
     cr->add_flag("--json", o->json, "Print JSON");

@@ -4,6 +4,7 @@
 
 #include "app/commands.hpp"
 #include "app/mixer_options.hpp"
+#include "post/run_profile.hpp"
 #include "run/mixer_job.hpp"
 
 namespace mixload::app {
@@ -16,6 +17,8 @@ struct MixerCmd {
     bool json = false;
     bool rerun = false;
     bool snapshots = false;
+    bool profile = false;
+    std::string warmFrom;
 };
 }  // namespace
 
@@ -29,6 +32,12 @@ void addMixer(CLI::App& app, Action& action) {
     cmd->add_flag("--rerun", o->rerun, "Run again even if the run directory holds a finished result");
     cmd->add_flag("--snapshots", o->snapshots,
                   "Export the run's written times to <run dir>/snapshots.h5 (+ .xmf) at the end");
+    cmd->add_flag("--profile", o->profile,
+                  "Record and print where the time steps and the time go (Courant peaks, stages, "
+                  "solver iterations)");
+    cmd->add_option("--warm-from", o->warmFrom,
+                    "Start from the latest fields of this mixer run directory (mapped onto this "
+                    "mesh) instead of the deposit");
     cmd->add_flag("--json", o->json, "Print the result as JSON");
     cmd->callback([&action, o] {
         action = [o] {
@@ -39,6 +48,8 @@ void addMixer(CLI::App& app, Action& action) {
             job.progress = !o->json;
             job.reuse = !o->rerun;
             job.snapshots = o->snapshots;
+            job.profile = o->profile;
+            job.warmFrom = o->warmFrom;
             const auto r = run::runMixer(job);
             if (o->json) {
                 std::cout << r.dump(2) << '\n';
@@ -61,6 +72,7 @@ void addMixer(CLI::App& app, Action& action) {
                       << r["plot"].get<std::string>() << '\n';
             if (r.contains("snapshots"))
                 std::cout << "  snapshots " << r["snapshots"].get<std::string>() << '\n';
+            if (r.contains("profile")) std::cout << post::formatRunProfile(r["profile"]);
             if (r.contains("warning"))
                 std::cout << "  WARNING: " << r["warning"].get<std::string>() << '\n';
             return 0;

@@ -40,6 +40,28 @@ void MixerOptions::add(CLI::App* cmd, bool withMethod) {
     cmd->add_option("--steady-flow-tol", flowTol,
                     "Steady: mean outflow within this fraction of the feed");
     cmd->add_option("--min-time", minTime, "No steady verdict before this time [s]");
+    cmd->add_option("--steady-verdict", verdict,
+                    "balance (default: the change still to come by mass balance, over one "
+                    "relaxation time, in windows of --steady-window-revs) | windows (two windows "
+                    "of at least --steady-window-residence x M/feed, as before)");
+    cmd->add_option("--numerics", numerics,
+                    "Solver settings preset: fast (default) | legacy (every run before the "
+                    "presets); the options below adjust either")
+        ->group("Numerics");
+    cmd->add_option("--air-viscosity", airViscosity, "Air kinematic viscosity [m2/s]")
+        ->group("Numerics");
+    cmd->add_option("--courant-alpha-min", courantAlphaMin,
+                    "Courant limits count only cells with at least this powder fraction (0: all)")
+        ->group("Numerics");
+    cmd->add_option("--non-orth-correctors", nonOrthCorrectors,
+                    "Pressure non-orthogonal correctors")
+        ->group("Numerics");
+    cmd->add_option("--alpha-sub-cycles", alphaSubCycles,
+                    "MULES sub-cycles per step; the step's Courant limit is this many times the "
+                    "alpha limit (1)")
+        ->group("Numerics");
+    cmd->add_option("--max-delta-t", maxDeltaT, "Largest time step [s] (also <= 1/72 revolution)")
+        ->group("Numerics");
 }
 
 scene::MixerScene MixerOptions::build() const {
@@ -74,6 +96,13 @@ scene::MixerScene MixerOptions::build() const {
     if (tol) s.steadyTol = *tol;
     if (flowTol) s.steadyFlowTol = *flowTol;
     if (minTime) s.minTime = *minTime;
+    if (verdict) s.steadyVerdict = *verdict;
+    if (numerics) s.numerics = scene::MixerNumerics::named(*numerics);
+    if (airViscosity) s.numerics.airViscosity = *airViscosity;
+    if (courantAlphaMin) s.numerics.courantAlphaMin = *courantAlphaMin;
+    if (nonOrthCorrectors) s.numerics.nonOrthCorrectors = *nonOrthCorrectors;
+    if (maxDeltaT) s.numerics.maxDeltaT = *maxDeltaT;
+    if (alphaSubCycles) s.numerics.alphaSubCycles = *alphaSubCycles;
     s.validate();
     return s;
 }

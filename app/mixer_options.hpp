@@ -12,10 +12,10 @@ namespace mixload::app {
 
 struct MixerOptions {
     std::string scene = "gcm250";
-    std::optional<std::string> method, mesh, mesher, rheology, convention;
+    std::optional<std::string> method, mesh, mesher, rheology, convention, numerics, verdict;
     std::optional<double> rpm, feedKgH, muS, muD, I0, d, rho, initialLoadingKg, endTime, cellSize,
-        etaMax, window, residence, tol, flowTol, minTime;
-    std::optional<int> ltsIterations;
+        etaMax, window, residence, tol, flowTol, minTime, airViscosity, courantAlphaMin, maxDeltaT;
+    std::optional<int> ltsIterations, nonOrthCorrectors, alphaSubCycles;
 
     void add(CLI::App* cmd, bool withMethod = true);
     // Loads the scene file, applies the flags, validates: throws InputError before anything is

@@ -70,7 +70,8 @@ std::string transportProperties(const PowderTransport& t) {
            << "        rhoS " << num(t.grainDensity) << ";\n";
     }
     os << "        etaMax " << num(t.etaMax) << ";\n        pMin " << num(t.pMin) << ";\n"
-       << "    }\n}\n\nair\n{\n    transportModel Newtonian;\n    nu 1.5e-05;\n    rho 1.2;\n}\n\n"
+       << "    }\n}\n\nair\n{\n    transportModel Newtonian;\n    nu " << num(t.airViscosity)
+       << ";\n    rho 1.2;\n}\n\n"
        << "sigma 0;\n";
     return os.str();
 }

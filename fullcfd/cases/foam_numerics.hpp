@@ -13,6 +13,7 @@ std::string decomposeParDict(int np);
 struct PowderTransport {
     std::string rheology;  // muI | muIRegularised | schaeffer
     double bulkDensity, muS, muD, I0, grainDiameter, grainDensity, etaMax, pMin;
+    double airViscosity = 1.5e-5;  // [m2/s]
 };
 std::string transportProperties(const PowderTransport& t);
 // The libs entry for controlDict: absolute paths of mixload's OpenFOAM libraries.

@@ -117,7 +117,7 @@ std::string topoSetDict(const scene::MixerScene& s) {
 
 std::string rotationAxis() { return "origin (0 0 0);\naxis (1 0 0);\n"; }
 
-std::string controlDict(const scene::MixerScene& s, bool keepAllTimes) {
+std::string controlDict(const scene::MixerScene& s, bool keepAllTimes, bool profile) {
     const bool lts = s.method == "lts";
     std::ostringstream os;
     os << "application interFoam;\nlibs (" << mixloadFoamLibs() << ");\n"
@@ -132,11 +132,15 @@ std::string controlDict(const scene::MixerScene& s, bool keepAllTimes) {
            << num(std::min(5.0, std::max(0.5, s.revolutionTime()))) << ";\n"
            // Courant 1 by default (semi-implicit MULES): on the tiny mesh, 1 s of flow in 26 s
            // instead of 41 s at 0.5, loading at 1 s within 0.07%, balance -6e-7 kg.
-           << "adjustTimeStep yes;\nmaxCo " << num(s.maxCourant) << ";\nmaxAlphaCo "
-           << num(s.maxCourant) << ";\nmaxDeltaT "
-           << num(std::min(0.01, s.revolutionTime() / 72.0)) << ";\n";
+           << "adjustTimeStep yes;\nmaxCo " << num(s.maxCourant * s.numerics.alphaSubCycles)
+           << ";\nmaxAlphaCo " << num(s.maxCourant * s.numerics.alphaSubCycles) << ";\nmaxDeltaT "
+           << num(std::min(s.numerics.maxDeltaT, s.revolutionTime() / 72.0)) << ";\n";
     }
     // Only the last few times are needed to resume; snapshot export wants every written time.
+    // OpenFOAM's own profiler (per stage: mixloadInterFoam adds scopes) and the Courant probe:
+    // the run's profile (post/run_profile) reads both.
+    if (profile)
+        os << "profiling { active true; cpuInfo false; memInfo false; sysInfo false; }\n";
     os << "purgeWrite " << (keepAllTimes ? 0 : 3) << ";\nwriteFormat binary;\nwritePrecision 10;\nwriteCompression off;\n"
        << "timeFormat general;\ntimePrecision 10;\nrunTimeModifiable yes;\n\n"
        << "functions\n{\n    " << kLoadingMonitor << "\n    {\n"
@@ -147,12 +151,17 @@ std::string controlDict(const scene::MixerScene& s, bool keepAllTimes) {
        << "        window " << num(s.steadyWindow()) << ";\n"
        << "        period " << num(s.steadyPeriod()) << ";\n"
        << "        residenceFraction " << num(s.steadyResidenceFraction()) << ";\n"
+       << "        verdict " << (s.balanceVerdict() ? "balance" : "windows") << ";\n"
        << "        tolerance " << num(s.steadyTol) << ";\n"
        << "        flowTolerance " << num(s.steadyFlowTol) << ";\n"
        << "        minTime " << num(s.minTime) << ";\n"
        << "        pseudoTime " << (lts ? "yes" : "no") << ";\n"
        << "        zone rotor;\n"
-       << "        writeControl writeTime;\n    }\n}\n";
+       << "        writeControl writeTime;\n    }\n";
+    if (profile)
+        os << "    " << kCourantProfile << "\n    {\n        type courantProfile;\n"
+           << "        alpha alpha.powder;\n        zone rotor;\n    }\n";
+    os << "}\n";
     return os.str();
 }
 
@@ -172,18 +181,22 @@ std::string fvSchemes(const scene::MixerScene& s) {
            "snGradSchemes { default limited corrected 0.5; }\n";
 }
 
+// The O-grid's non-orthogonality is about 1e-6 degrees: its corrections vanish, and with
+// numerics.non_orth_correctors 0 the pressure equation is solved once per corrector.
 std::string fvSolution(const scene::MixerScene& s) {
     std::ostringstream os;
     os << "solvers\n{\n"
        << "    \"alpha.powder.*\"\n    {\n"
-       << "        nAlphaCorr 2; nAlphaSubCycles 1; cAlpha 1; MULESCorr yes; nLimiterIter 5;\n"
+       << "        nAlphaCorr 2; nAlphaSubCycles " << (s.method == "lts" ? 1 : s.numerics.alphaSubCycles)
+       << "; cAlpha 1; MULESCorr yes; nLimiterIter 5;\n"
        << "        solver smoothSolver; smoother symGaussSeidel; tolerance 1e-8; relTol 0;\n    }\n"
        << "    \"pcorr.*\" { solver PCG; preconditioner DIC; tolerance 1e-5; relTol 0; }\n"
        << "    p_rgh { solver GAMG; smoother DIC; tolerance 1e-7; relTol 0.05; }\n"
        << "    p_rghFinal { $p_rgh; relTol 0; }\n"
        << "    \"U.*\" { solver smoothSolver; smoother symGaussSeidel; tolerance 1e-7; relTol 0; }\n"
        << "}\n\nPIMPLE\n{\n    momentumPredictor yes;\n    nOuterCorrectors 1;\n"
-       << "    nCorrectors 2;\n    nNonOrthogonalCorrectors 1;\n"
+       << "    nCorrectors 2;\n    nNonOrthogonalCorrectors " << s.numerics.nonOrthCorrectors
+       << ";\n    courantAlphaMin " << num(s.numerics.courantAlphaMin) << ";\n"
        << "    correctPhi " << (s.method == "sm" ? "yes" : "no") << ";\n"
        << "    moveMeshOuterCorrectors no;\n";
     if (s.method == "lts") {
@@ -198,7 +211,8 @@ std::string fvSolution(const scene::MixerScene& s) {
 std::string transportProperties(const scene::MixerScene& s) {
     const auto& m = s.material;
     return cases::transportProperties({s.rheology, s.bulkDensity(), s.muSCase(), s.muDCase(), m.I0,
-                                        m.grainDiameter, m.grainDensity, s.etaMaxValue(), s.pMin});
+                                        m.grainDiameter, m.grainDensity, s.etaMaxValue(), s.pMin,
+                                        s.numerics.airViscosity});
 }
 
 std::string mrfProperties(const scene::MixerScene& s) {
@@ -293,14 +307,15 @@ void writeMixerMeshCase(const scene::MixerScene& s, const fs::path& dir, int np)
         writeFoamFile(dir, "system/snappyHexMeshDict", "dictionary", snappyHexMeshDict(s));
         writeFoamFile(dir, "system/topoSetDict", "dictionary", topoSetDict(s));
     }
-    writeMixerControlDict(s, dir, false);
+    writeMixerControlDict(s, dir, false, false);
     writeFoamFile(dir, "system/fvSchemes", "dictionary", fvSchemes(s));
     writeFoamFile(dir, "system/fvSolution", "dictionary", fvSolution(s));
     writeFoamFile(dir, "system/decomposeParDict", "dictionary", decomposeParDict(np));
 }
 
-void writeMixerControlDict(const scene::MixerScene& s, const fs::path& dir, bool keepAllTimes) {
-    writeFoamFile(dir, "system/controlDict", "dictionary", controlDict(s, keepAllTimes));
+void writeMixerControlDict(const scene::MixerScene& s, const fs::path& dir, bool keepAllTimes,
+                           bool profile) {
+    writeFoamFile(dir, "system/controlDict", "dictionary", controlDict(s, keepAllTimes, profile));
 }
 
 std::vector<std::vector<std::string>> mixerMeshSteps(const scene::MixerScene& s) {

@@ -12,6 +12,7 @@
 namespace mixload::cases {
 
 inline constexpr const char* kLoadingMonitor = "loading";
+inline constexpr const char* kCourantProfile = "courant";
 
 // Writes surfaces, the meshing dictionaries (blockMesh, snappyHexMesh or createPatch, topoSet) and
 // the system dictionaries the utilities and the solver share (controlDict, fvSchemes, fvSolution,
@@ -19,9 +20,10 @@ inline constexpr const char* kLoadingMonitor = "loading";
 void writeMixerMeshCase(const scene::MixerScene& s, const std::filesystem::path& caseDir, int np);
 
 // (Re)writes system/controlDict; keepAllTimes keeps every written time (for snapshots) instead of
-// the last three. The solver rereads it, so a resumed run can switch.
+// the last three; profile turns on OpenFOAM's profiler and the Courant probe (post/run_profile).
+// The solver rereads it, so a resumed run can switch.
 void writeMixerControlDict(const scene::MixerScene& s, const std::filesystem::path& caseDir,
-                           bool keepAllTimes);
+                           bool keepAllTimes, bool profile);
 
 // The utilities that turn the written case into the final mesh, in order.
 std::vector<std::vector<std::string>> mixerMeshSteps(const scene::MixerScene& s);

@@ -7,6 +7,7 @@
 #include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
 #include "post/mixer_results.hpp"
+#include "post/run_profile.hpp"
 #include "run/foam_runner.hpp"
 #include "run/run_dir.hpp"
 
@@ -17,6 +18,27 @@ namespace fs = std::filesystem;
 namespace {
 double since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Replaces the deposit in <case>/0 by the source run's latest fields. mapFields keeps the new
+// case's boundary conditions (feed, rotation) and maps only values; cell-volume weights keep the
+// powder volume on a different mesh and copy it exactly on the same one.
+nlohmann::json warmStart(const fs::path& caseDir, const fs::path& source) {
+    const fs::path src = fs::absolute(source);
+    const double t = latestTime(src);
+    if (!fs::exists(src / "system" / "controlDict") || !fs::exists(src / "scene.json") || t <= 0)
+        throw InputError("warm-from", source.string(),
+                         "a mixer run directory with a written time after 0");
+    runUtility(caseDir, {"mapFields", src.string(), "-sourceTime", "latestTime", "-consistent",
+                         "-mapMethod", "cellVolumeWeight"});
+    nlohmann::json start{{"warm_from", src.string()}, {"source_time_s", t}};
+    if (fs::exists(src / "scene.json"))
+        start["source_scene_hash"] = nlohmann::json::parse(readFile(src / "scene.json")).value("hash", "");
+    if (fs::exists(src / "result.json"))
+        start["source_loading_kg"] =
+            nlohmann::json::parse(readFile(src / "result.json")).value("loading_kg", 0.0);
+    writeFileAtomic(caseDir / "start.json", start.dump(2));
+    return start;
 }
 }  // namespace
 
@@ -50,11 +72,12 @@ nlohmann::json runMixer(const MixerJob& job) {
                                " checks; see " + (tmp / "log.checkMesh").string());
             cases::writeMixerSolverCase(s, tmp);
             runUtility(tmp, {"setFields"});
+            if (!job.warmFrom.empty()) warmStart(tmp, job.warmFrom);
         });
         meshSeconds = since(t0);
     }
 
-    if (job.snapshots) cases::writeMixerControlDict(s, dir, true);
+    if (job.snapshots || job.profile) cases::writeMixerControlDict(s, dir, job.snapshots, job.profile);
     SolverRun r;
     r.caseDir = dir;
     r.np = job.np;
@@ -74,6 +97,10 @@ nlohmann::json runMixer(const MixerJob& job) {
     result["core_seconds"] = meshSeconds + solverWall * job.np;
     result["np"] = job.np;
     result["resumed"] = !fresh;
+    result["start"] = fs::exists(dir / "start.json")
+                          ? nlohmann::json::parse(readFile(dir / "start.json"))
+                          : nlohmann::json{{"deposit_kg", s.initialLoadingKg}};
+    if (job.profile) result["profile"] = post::readRunProfile(dir);
     stampProvenance(result, dir, s.hash());
     const std::string warn = post::plotLoading(s, dir);
     result["plot"] = warn.empty() ? (dir / "loading.png").string() : "";

@@ -17,6 +17,10 @@ struct MixerJob {
     bool progress = false;
     bool reuse = true;          // return a finished run's result instead of running again
     bool snapshots = false;     // keep every written time and export <run dir>/snapshots.h5
+    bool profile = false;       // record where the steps and the time go (result "profile")
+    // Warm start: begin from the latest fields of this run directory (any scene, any mesh: the
+    // fields are mapped by cell-volume weights) instead of the scene's deposit.
+    std::filesystem::path warmFrom;
     // Campaigns stop long runs here; they resume later from their last written time.
     std::optional<std::chrono::steady_clock::time_point> deadline;
 };

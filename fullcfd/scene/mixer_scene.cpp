@@ -65,6 +65,35 @@ void MixerGeometry::validate() const {
     requireRange("inlet.height_m", inletHeight, shaftRadius() + r, radius() - r, false, false);
 }
 
+MixerNumerics MixerNumerics::named(const std::string& name) {
+    MixerNumerics n;
+    n.preset = name;
+    if (name == "legacy") return n;
+    if (name != "fast") throw InputError("numerics", name, "legacy|fast");
+    // The O-grid's non-orthogonality is about 1e-6 degrees: its corrections vanish, and the
+    // pressure equation is solved once per corrector instead of twice (loading unchanged to six
+    // digits over 2 s of flow, README "Cost of a steady point"). The time step stays set by the
+    // Courant number of every cell: the limits that exempt air or dilute cells moved the loading
+    // by 1-4% (same section).
+    n.nonOrthCorrectors = 0;
+    return n;
+}
+
+bool MixerNumerics::sameSettings(const MixerNumerics& o) const {
+    return airViscosity == o.airViscosity && courantAlphaMin == o.courantAlphaMin &&
+           nonOrthCorrectors == o.nonOrthCorrectors && maxDeltaT == o.maxDeltaT &&
+           alphaSubCycles == o.alphaSubCycles;
+}
+
+void MixerNumerics::validate() const {
+    if (preset != "legacy" && preset != "fast") throw InputError("numerics", preset, "legacy|fast");
+    requireRange("air-viscosity", airViscosity, 1e-6, 1.0);
+    requireRange("courant-alpha-min", courantAlphaMin, 0.0, 0.99);
+    requireRange("non-orth-correctors", nonOrthCorrectors, 0, 5);
+    requireRange("max-delta-t", maxDeltaT, 1e-5, 1.0);
+    requireRange("alpha-sub-cycles", alphaSubCycles, 1, 10);
+}
+
 void MixerScene::setMesh(const std::string& level) {
     static const char* names[] = {"coarse", "medium", "fine"};
     for (int i = 0; i < 3; ++i)
@@ -84,6 +113,7 @@ std::string MixerScene::meshLabel() const {
 void MixerScene::validate() const {
     geometry.validate();
     requireRange("max-courant", maxCourant, 0.01, 5.0);
+    numerics.validate();
     material.validate();
     if (convention != "standard" && convention != "paper")
         throw InputError("convention", convention, "standard|paper");
@@ -94,6 +124,10 @@ void MixerScene::validate() const {
     if (mesher != "ogrid" && mesher != "snappy") throw InputError("mesher", mesher, "ogrid|snappy");
     if (method == "sm" && mesher != "ogrid")
         throw InputError("mesher", mesher, "ogrid for --method sm (the AMI needs the O-grid)");
+    // snappy's castellated cells are up to 60 degrees non-orthogonal.
+    if (mesher == "snappy" && numerics.nonOrthCorrectors < 1)
+        throw InputError("non-orth-correctors", std::to_string(numerics.nonOrthCorrectors),
+                         "at least 1 on the snappy mesh (--numerics legacy or --non-orth-correctors 1)");
     if (etaMax) requirePositive("eta-max", *etaMax);
     requirePositive("p-min", pMin);
     requireRange("rpm", rpm, 0.0, 2000.0);  // 0: a resting bed (checks)
@@ -109,6 +143,8 @@ void MixerScene::validate() const {
     requireRange("steady-tol", steadyTol, 0.0, 0.5, false, true);
     requireRange("steady-flow-tol", steadyFlowTol, 0.0, 1.0, false, true);
     requireRange("min-time", minTime, 0.0, 1e5);
+    if (steadyVerdict != "windows" && steadyVerdict != "balance")
+        throw InputError("steady-verdict", steadyVerdict, "windows|balance");
     const double cells = geometry.openVolume() / std::pow(cellSize, 3);
     if (cells > 5e6)
         throw InputError("cell-size", formatNumber(cellSize),
@@ -137,7 +173,9 @@ double MixerScene::steadyWindow() const {
 
 double MixerScene::steadyPeriod() const { return method == "lts" || rpm <= 0 ? 0.0 : revolutionTime(); }
 
-double MixerScene::steadyResidenceFraction() const { return method == "lts" ? 0.0 : steadyResidence; }
+double MixerScene::steadyResidenceFraction() const {
+    return method == "lts" || balanceVerdict() ? 0.0 : steadyResidence;
+}
 
 double MixerScene::steadyWindow(double loadingKg) const {
     return steady::windowLength(steadyWindow(), steadyPeriod(), steadyResidenceFraction(), loadingKg,
@@ -184,11 +222,21 @@ nlohmann::json MixerScene::toJson() const {
             {"gravity_m_s2", gravity}};
     // Only a non-default limit enters the record, so hashes of existing runs stay valid.
     if (maxCourant != MixerScene{}.maxCourant) j["max_courant"] = maxCourant;
+    // Runs before the numerics presets used the legacy settings and carry no key: theirs stay
+    // valid. The values enter the record, not the preset's name.
+    if (!numerics.sameSettings(MixerNumerics::named("legacy")))
+        j["numerics"] = {{"air_viscosity_m2_s", numerics.airViscosity},
+                         {"courant_alpha_min", numerics.courantAlphaMin},
+                         {"non_orth_correctors", numerics.nonOrthCorrectors},
+                         {"max_delta_t_s", numerics.maxDeltaT},
+                         {"alpha_sub_cycles", numerics.alphaSubCycles}};
     // Frozen-rotor runs recorded before the O-grid existed were all on the snappy mesh, and the
     // sliding mesh has only ever used the O-grid: the key enters only where it is news.
     if (method != "sm" && mesher != "snappy") j["mesher"] = mesher;
     // Likewise the residence-time window: runs before it had windows of revolutions only.
     if (method != "lts" && steadyResidence > 0) j["steady_window_residence"] = steadyResidence;
+    // Likewise the balance verdict: every run before it used windows.
+    if (balanceVerdict()) j["steady_verdict"] = steadyVerdict;
     return j;
 }
 
@@ -245,7 +293,7 @@ MixerScene parseMixerScene(const std::string& text, const std::string& origin) {
                          std::string(e.description()));
     }
     static const std::set<std::string> tables{"barrel", "impeller", "weir",    "inlet",
-                                              "powder", "operation", "mesh"};
+                                              "powder", "operation", "mesh",  "numerics"};
     for (const auto& [k, v] : root)
         if (!tables.count(std::string(k.str())))
             throw InputError(origin + ": unknown table [" + std::string(k.str()) + "]");
@@ -255,7 +303,7 @@ MixerScene parseMixerScene(const std::string& text, const std::string& origin) {
     auto& g = s.geometry;
     Section barrel(root, "barrel", origin), imp(root, "impeller", origin), weir(root, "weir", origin),
         inlet(root, "inlet", origin), powder(root, "powder", origin), op(root, "operation", origin),
-        mesh(root, "mesh", origin);
+        mesh(root, "mesh", origin), num(root, "numerics", origin);
     g.length = barrel.number("length_m", g.length);
     g.bore = barrel.number("bore_m", g.bore);
     g.shaftDiameter = imp.number("shaft_diameter_m", g.shaftDiameter);
@@ -286,7 +334,20 @@ MixerScene parseMixerScene(const std::string& text, const std::string& origin) {
                     mesh.number("medium_cell_m", s.levelCells[1]),
                     mesh.number("fine_cell_m", s.levelCells[2])};
     s.mesher = mesh.text("mesher", s.mesher);
-    for (auto* sec : {&barrel, &imp, &weir, &inlet, &powder, &op, &mesh}) sec->checkKnown();
+    s.numerics = MixerNumerics::named(num.text("preset", s.numerics.preset));
+    auto& n = s.numerics;
+    n.airViscosity = num.number("air_viscosity_m2_s", n.airViscosity);
+    n.courantAlphaMin = num.number("courant_alpha_min", n.courantAlphaMin);
+    const double corr = num.number("non_orth_correctors", n.nonOrthCorrectors);
+    if (corr != std::floor(corr))
+        throw InputError("numerics.non_orth_correctors", formatNumber(corr), "a whole number");
+    n.nonOrthCorrectors = static_cast<int>(corr);
+    n.maxDeltaT = num.number("max_delta_t_s", n.maxDeltaT);
+    const double sub = num.number("alpha_sub_cycles", n.alphaSubCycles);
+    if (sub != std::floor(sub))
+        throw InputError("numerics.alpha_sub_cycles", formatNumber(sub), "a whole number");
+    n.alphaSubCycles = static_cast<int>(sub);
+    for (auto* sec : {&barrel, &imp, &weir, &inlet, &powder, &op, &mesh, &num}) sec->checkKnown();
     for (int i = 0; i < 3; ++i)
         requireRange(std::string("mesh.") + (i == 0 ? "coarse" : i == 1 ? "medium" : "fine") +
                          "_cell_m",

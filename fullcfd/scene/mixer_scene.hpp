@@ -46,6 +46,26 @@ struct MixerGeometry {
     double openVolume() const;
 };
 
+// Solver settings that set the number and the cost of time steps (README, "Cost of a steady
+// point"). `legacy` is what every run before them used; `fast` removes the limits the profile showed
+// to be non-physical. Either preset can be adjusted key by key.
+struct MixerNumerics {
+    std::string preset = "fast";
+    double airViscosity = 1.5e-5;  // kinematic viscosity of the air phase [m2/s]
+    // The flow and interface Courant limits count only cells with at least this powder fraction
+    // (0: every cell, as stock interFoam).
+    double courantAlphaMin = 0;
+    int nonOrthCorrectors = 1;     // pressure non-orthogonal correctors
+    // MULES sub-cycles per step: alpha keeps the scene's Courant limit per sub-cycle while the
+    // step (momentum, pressure) runs at this many times that limit.
+    int alphaSubCycles = 1;
+    double maxDeltaT = 0.01;       // [s]; also at most 1/72 of a revolution
+
+    static MixerNumerics named(const std::string& name);  // legacy | fast
+    void validate() const;
+    bool sameSettings(const MixerNumerics& o) const;  // every value but the preset's name
+};
+
 // A mixer run's inputs: geometry, powder, operating point, method and mesh.
 struct MixerScene {
     std::string name = "gcm250";
@@ -70,8 +90,14 @@ struct MixerScene {
     double steadyTol = 0.02;       // ... consecutive window means within this fraction ...
     double steadyFlowTol = 0.10;   // ... and mean outflow within this fraction of the feed
     double minTime = 0;            // no steady verdict before this time [s]
+    // windows: two windows of the loading and the outflow (steady::test); balance: the change
+    // still to come by mass balance, over one relaxation time (steady::testBalance), with windows
+    // of steadyWindowRevs revolutions and no residence-time rule. lts and runs without feed use
+    // windows.
+    std::string steadyVerdict = "balance";
     double gravity = 9.81;
     double maxCourant = 1.0;       // flow and interface Courant limit (campaign retries halve it)
+    MixerNumerics numerics = MixerNumerics::named("fast");
 
     void validate() const;
     void setMesh(const std::string& level);  // coarse | medium | fine
@@ -92,6 +118,10 @@ struct MixerScene {
     double steadyResidenceFraction() const;
     // The window for a loading M [kg] (steady::windowLength with the three settings above).
     double steadyWindow(double loadingKg) const;
+    // Without feed there is no balance to read: the window test then.
+    bool balanceVerdict() const {
+        return steadyVerdict == "balance" && method != "lts" && feedKgH > 0;
+    }
 
     nlohmann::json toJson() const;  // canonical: every input that changes the result
     std::string hash() const;

@@ -125,3 +125,89 @@ TEST(SteadyLoading, SlowOscillationLongerThanTheRevolutionsWindowIsNotSteady) {
     EXPECT_LT(test(h.t, h.M, h.C, shortW, feed, 0.01, 1.0, 0).drift, 0.01);
     EXPECT_FALSE(test(h.t, h.M, h.C, longW, feed, 0.01, 1.0, 0).steady);
 }
+
+namespace {
+// The first sample time at which the balance test calls the history steady (or -1), scanning the
+// history as the monitor does, one prefix at a time.
+template <class Test>
+double firstSteady(const History& h, double from, double every, Test verdict) {
+    for (double end = from; end <= h.t.back() + 1e-12; end += every) {
+        const auto n = static_cast<std::size_t>(std::upper_bound(h.t.begin(), h.t.end(), end + 1e-12) - h.t.begin());
+        const std::vector<double> t(h.t.begin(), h.t.begin() + n), M(h.M.begin(), h.M.begin() + n),
+            C(h.C.begin(), h.C.begin() + n);
+        if (verdict(t, M, C)) return t.back();
+    }
+    return -1;
+}
+}  // namespace
+
+using mixload::steady::testBalance;
+
+TEST(SteadyBalance, RelaxationIsSteadyOnceTheChangeToComeIsWithinTolerance) {
+    // M relaxes to 0.024 kg with tau = 11 s from 20% above (the 39 rpm, 5 kg/h run's shape).
+    const double tau = 11, Minf = 0.024;
+    const auto h = make(80, 0.01, kFeed, [&](double t) { return Minf * (1 + 0.2 * std::exp(-t / tau)); });
+    auto balance = [&](const auto& t, const auto& M, const auto& C) {
+        return testBalance(t, M, C, kW, kFeed, 0.01, 0.03, 0).steady;
+    };
+    const double at = firstSteady(h, kW, 0.1, balance);
+    ASSERT_GT(at, 0);
+    // Called when the loading is within 1% of where it goes, and not long after.
+    const double M = Minf * (1 + 0.2 * std::exp(-at / tau));
+    EXPECT_LE(std::abs(M - Minf) / Minf, 0.01) << "at " << at;
+    EXPECT_LT(at, tau * std::log(20.0) + 3 * kW);
+    // The relaxation time is read off the history.
+    const auto v = testBalance(h.t, h.M, h.C, kW, kFeed, 0.01, 0.03, 0);
+    EXPECT_NEAR(v.tau, tau, 0.1 * tau);
+}
+
+TEST(SteadyBalance, FlatHistoryIsHeldForAResidenceTime) {
+    // A run started from a finished field: the loading is flat (paddle ripple on top). A crest of a
+    // slow oscillation looks the same for a while, so the balance test, like the window test, waits
+    // for a residence time M/feed (17.3 s here) of flat history.
+    const auto h = make(40, 0.005, kFeed, [](double t) {
+        return 0.024 * (1 + 0.003 * std::sin(24 * std::numbers::pi * t / kRev));
+    });
+    auto balance = [&](const auto& t, const auto& M, const auto& C) {
+        return testBalance(t, M, C, kW, kFeed, 0.01, 0.03, 0).steady;
+    };
+    const double at = firstSteady(h, kW, 0.1, balance);
+    EXPECT_GE(at, 0.024 / kFeed);
+    EXPECT_LE(at, 0.024 / kFeed + kW + 0.2);
+}
+
+TEST(SteadyBalance, FillingDrainingAndNoFeedAreNotSteady) {
+    const auto filling = make(30, 0.01, kFeed, [](double t) { return 0.02 + 0.5 * kFeed * t; });
+    EXPECT_FALSE(testBalance(filling.t, filling.M, filling.C, kW, kFeed, 0.01, 0.03, 0).steady);
+    const auto draining = make(30, 0.01, kFeed, [](double t) { return 0.4 * std::exp(-t / 10); });
+    EXPECT_FALSE(testBalance(draining.t, draining.M, draining.C, kW, kFeed, 0.01, 0.03, 0).steady);
+    const auto still = make(30, 0.01, 0.0, [](double) { return 0.3; });
+    EXPECT_FALSE(testBalance(still.t, still.M, still.C, kW, 0.0, 0.01, 0.03, 0).steady);
+}
+
+TEST(SteadyBalance, SlowOscillationIsNeverSteady) {
+    // The 254 rpm, 5 kg/h wandering (+-6%, 20 s period) with 3-revolution windows: the outflow is
+    // out of phase with the loading, so the relaxation time falls back to M/feed, and no prefix of
+    // a minute of history is called steady, crests included.
+    const double rev = 60.0 / 254;
+    const auto h = make(60.0, 0.005, kFeed, [](double t) {
+        return 0.0187 * (1 + 0.06 * std::sin(2 * std::numbers::pi * t / 20.0));
+    });
+    auto balance = [&](const auto& t, const auto& M, const auto& C) {
+        return testBalance(t, M, C, 3 * rev, kFeed, 0.01, 0.03, 0).steady;
+    };
+    EXPECT_LT(firstSteady(h, 3 * rev, 0.05, balance), 0);
+}
+
+TEST(SteadyBalance, SmallSlowOscillationAboveToleranceIsNeverSteady) {
+    // +-2% at a 20 s period, 254 rpm windows: the neighbours of a crest alone would pass; the
+    // wandering history (loading and outflow uncorrelated) holds the verdict for a residence time.
+    const double rev = 60.0 / 254;
+    const auto h = make(60.0, 0.005, kFeed, [](double t) {
+        return 0.0187 * (1 + 0.02 * std::sin(2 * std::numbers::pi * t / 20.0));
+    });
+    auto balance = [&](const auto& t, const auto& M, const auto& C) {
+        return testBalance(t, M, C, 3 * rev, kFeed, 0.01, 0.03, 0).steady;
+    };
+    EXPECT_LT(firstSteady(h, 3 * rev, 0.05, balance), 0);
+}
