@@ -9,6 +9,8 @@
 #include "app/collapse_options.hpp"
 #include "app/commands.hpp"
 #include "app/mixer_options.hpp"
+#include "bench/mixer_steady_bench.hpp"
+#include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
 #include "run/collapse_job.hpp"
 #include "run/mixer_job.hpp"
@@ -29,7 +31,18 @@ struct BenchMixer {
     int np = 1;
     std::string out = "runs/bench-mixer";
     bool json = false;
+    bool steady = false;
+    std::vector<std::string> points{"39:5", "39:45", "254:45"};
+    bool noBaseline = false, noWarm = false;
 };
+
+std::pair<double, double> parsePoint(const std::string& text) {
+    const auto colon = text.find(':');
+    const auto rpm = colon == std::string::npos ? std::nullopt : parseNumber(text.substr(0, colon));
+    const auto feed = colon == std::string::npos ? std::nullopt : parseNumber(text.substr(colon + 1));
+    if (!rpm || !feed) throw InputError("points", text, "rpm:feed_kg_h, e.g. 39:5");
+    return {*rpm, *feed};
+}
 
 // One method's row: cost per simulated second and per revolution (per iteration for lts, whose
 // pseudo-time is not time), the time to a steady loading if the run got there, and the powder
@@ -134,8 +147,33 @@ void addBench(CLI::App& app, Action& action) {
     m->add_option("--np", mo->np, "MPI ranks for every method")->capture_default_str();
     m->add_option("--out", mo->out, "Scratch directory (replaced)")->capture_default_str();
     m->add_flag("--json", mo->json, "Print JSON");
+    m->add_flag("--steady", mo->steady,
+                "Instead: run --points to their steady verdict with the baseline setup (legacy "
+                "numerics, window verdict, cold) and the current one, cold and warm (from the "
+                "previous point), with profiles; prints wall time to the verdict beside the loading");
+    m->add_option("--points", mo->points, "With --steady: rpm:feed points")
+        ->delimiter(',')
+        ->capture_default_str();
+    m->add_flag("--no-baseline", mo->noBaseline, "With --steady: skip the baseline runs");
+    m->add_flag("--no-warm", mo->noWarm, "With --steady: skip the warm runs");
     m->callback([&action, mo] {
         action = [mo] {
+            if (mo->steady) {
+                experiments::SteadyBench b;
+                b.scene = mo->scene.build();
+                for (const auto& p : mo->points) b.points.push_back(parsePoint(p));
+                requireRange("np", mo->np, 1, 256);
+                b.np = mo->np;
+                b.baseline = !mo->noBaseline;
+                b.warm = !mo->noWarm;
+                b.out = mo->out;
+                b.progress = !mo->json;
+                const auto res = experiments::runSteadyBench(b);
+                writeFileAtomic(std::filesystem::path(mo->out) / "bench.json", res.dump(2));
+                if (mo->json) std::cout << res.dump(2) << '\n';
+                else std::cout << experiments::formatSteadyBench(res);
+                return 0;
+            }
             // Short runs unless the user asks for more: a benchmark measures rates, not answers.
             MixerOptions opts = mo->scene;
             if (!opts.endTime) opts.endTime = 0.5;

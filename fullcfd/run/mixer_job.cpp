@@ -20,16 +20,23 @@ double since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Replaces the deposit in <case>/0 by the source run's latest fields. mapFields keeps the new
+// Replaces the deposit in <case>/0 by the source run's latest fields. mapFieldsPar keeps the new
 // case's boundary conditions (feed, rotation) and maps only values; cell-volume weights keep the
 // powder volume on a different mesh and copy it exactly on the same one.
-nlohmann::json warmStart(const fs::path& caseDir, const fs::path& source) {
+// The source's latest written time; bad input if it is not a mixer run with one.
+double warmSourceTime(const fs::path& source) {
     const fs::path src = fs::absolute(source);
     const double t = latestTime(src);
     if (!fs::exists(src / "system" / "controlDict") || !fs::exists(src / "scene.json") || t <= 0)
         throw InputError("warm-from", source.string(),
                          "a mixer run directory with a written time after 0");
-    runUtility(caseDir, {"mapFields", src.string(), "-sourceTime", "latestTime", "-consistent",
+    return t;
+}
+
+nlohmann::json warmStart(const fs::path& caseDir, const fs::path& source) {
+    const fs::path src = fs::absolute(source);
+    const double t = warmSourceTime(src);
+    runUtility(caseDir, {"mapFieldsPar", src.string(), "-sourceTime", "latestTime", "-consistent",
                          "-mapMethod", "cellVolumeWeight"});
     nlohmann::json start{{"warm_from", src.string()}, {"source_time_s", t}};
     if (fs::exists(src / "scene.json"))
@@ -50,6 +57,7 @@ nlohmann::json runMixer(const MixerJob& job) {
     const auto& s = job.scene;
     s.validate();
     requireRange("np", job.np, 1, 256);
+    if (!job.warmFrom.empty()) warmSourceTime(job.warmFrom);
     const fs::path dir = fs::absolute(job.out.empty() ? defaultMixerDir(s, job.np) : job.out);
     const RunDirLock lock(dir);
     if (auto done = checkRunDir(dir, s.hash(), job.reuse)) {

@@ -229,3 +229,52 @@ TEST(MixerCliErrors, BadFlagsAndScenes) {
     const auto weir = writeScene("weir", "[weir]\nchord_angle_deg = 120\n");
     expectRejected({"--scene", weir.string()}, "invalid weir.chord_angle_deg = 120");
 }
+
+TEST(MixerRun, ProfileSaysWhereTheStepsAndTheTimeGo) {
+    const auto r = runMixer("profile", {"--end-time", "0.05", "--profile"});
+    ASSERT_FALSE(r.is_null());
+    ASSERT_TRUE(r.contains("profile"));
+    const auto& p = r["profile"];
+    EXPECT_GT(p["steps"].get<long>(), 5);
+    EXPECT_GT(p["mean_delta_t_s"].get<double>(), 0);
+    EXPECT_GT(p["courant"]["max"].get<double>(), 0);
+    // Every step's limit is named, and the shares add up.
+    double share = 0;
+    for (const auto& [k, v] : p["step_set_by"].items()) share += v.get<double>();
+    EXPECT_NEAR(share, 1.0, 1e-9);
+    // The probe located the peaks, and the profiler split the step into the solver's stages.
+    ASSERT_TRUE(p["flow_courant_peak"].is_array());
+    EXPECT_FALSE(p["flow_courant_peak"].empty());
+    ASSERT_FALSE(p["stages"].is_null());
+    double ms = 0;
+    for (const auto& s : p["stages"]["stages"]) ms += s["ms_per_step"].get<double>();
+    EXPECT_NEAR(ms, p["stages"]["ms_per_step"].get<double>(), 1e-6 * ms);
+    for (const char* field : {"alpha.powder", "p_rgh", "Ux"})
+        EXPECT_GT(p["solves"][field]["iterations_per_solve"].get<double>(), 0) << field;
+    // The fast preset solves p_rgh once per corrector (no non-orthogonal correctors): two per step.
+    EXPECT_NEAR(p["solves"]["p_rgh"]["solves_per_step"].get<double>(), 2.0, 1e-9);
+}
+
+TEST(MixerRun, WarmStartBeginsFromTheSourceRunsFields) {
+    // A short run, then a run of another operating point started from its last fields: the new
+    // run's first loading is the source's last (same mesh: the mapping copies cell values), and
+    // its own boundary conditions (feed, speed) hold.
+    const auto a = runMixer("warm-source", {"--end-time", "0.05"});
+    ASSERT_FALSE(a.is_null());
+    const auto b = runMixer("warm", {"--end-time", "0.03", "--rpm", "60", "--feed-kg-h", "10",
+                                     "--warm-from", a["run_dir"].get<std::string>()});
+    ASSERT_FALSE(b.is_null());
+    EXPECT_EQ(b["start"]["warm_from"], a["run_dir"]);
+    EXPECT_NEAR(b["initial_loading_kg"].get<double>(), a["final_loading_kg"].get<double>(),
+                1e-4 * a["final_loading_kg"].get<double>());  // one step of feed and outflow
+    EXPECT_NEAR(b["feed_kg_h"].get<double>(), 10, 1e-12);
+    EXPECT_TRUE(b["powder_balance_ok"].get<bool>());
+    // A cold run says where it started.
+    EXPECT_NEAR(a["start"]["deposit_kg"].get<double>(), 0.3, 1e-12);
+}
+
+TEST(MixerRun, WarmStartFromSomethingElseIsRejected) {
+    const fs::path empty = scratchDir("mixer-warm-bad") / "nothing";
+    fs::create_directories(empty);
+    expectRejected({"--cell-size", "0.01", "--warm-from", empty.string()}, "warm-from");
+}
