@@ -33,7 +33,7 @@ struct BenchMixer {
     bool json = false;
     bool steady = false;
     std::vector<std::string> points{"39:5", "39:45", "254:45"};
-    bool noBaseline = false, noWarm = false;
+    bool noBaseline = false, noWarm = false, resume = false;
 };
 
 std::pair<double, double> parsePoint(const std::string& text) {
@@ -149,13 +149,15 @@ void addBench(CLI::App& app, Action& action) {
     m->add_flag("--json", mo->json, "Print JSON");
     m->add_flag("--steady", mo->steady,
                 "Instead: run --points to their steady verdict with the baseline setup (legacy "
-                "numerics, window verdict, cold) and the current one, cold and warm (from the "
-                "previous point), with profiles; prints wall time to the verdict beside the loading");
+                "numerics, cold) and the current one, cold and warm (from the baseline's field), "
+                "with profiles; prints wall time to the verdict beside the loading");
     m->add_option("--points", mo->points, "With --steady: rpm:feed points")
         ->delimiter(',')
         ->capture_default_str();
     m->add_flag("--no-baseline", mo->noBaseline, "With --steady: skip the baseline runs");
     m->add_flag("--no-warm", mo->noWarm, "With --steady: skip the warm runs");
+    m->add_flag("--resume", mo->resume,
+                "With --steady: keep --out and reuse its finished runs (their measured times)");
     m->callback([&action, mo] {
         action = [mo] {
             if (mo->steady) {
@@ -166,6 +168,7 @@ void addBench(CLI::App& app, Action& action) {
                 b.np = mo->np;
                 b.baseline = !mo->noBaseline;
                 b.warm = !mo->noWarm;
+                b.resume = mo->resume;
                 b.out = mo->out;
                 b.progress = !mo->json;
                 const auto res = experiments::runSteadyBench(b);

@@ -47,7 +47,6 @@ struct CampaignCmd {
     std::string mesher = "ogrid";
     double steadyResidence = scene::MixerScene{}.steadyResidence;
     std::string numerics = scene::MixerScene{}.numerics.preset;
-    std::string verdict = scene::MixerScene{}.steadyVerdict;
     bool json = false, snapshots = false;
     std::string checkModel;
 };
@@ -72,7 +71,6 @@ nlohmann::json baseOf(const CampaignCmd& o, const std::string& kind) {
         b["mesher"] = o.mesher;
         b["steady_window_residence"] = o.steadyResidence;
         b["numerics"] = o.numerics;
-        b["steady_verdict"] = o.verdict;
         return b;
     }
     if (o.cellSize || o.endTime || o.initialLoadingKg || o.steadyTol || o.steadyFlowTol)
@@ -100,9 +98,8 @@ scene::MixerScene mixerSceneFor(const nlohmann::json& base, const nlohmann::json
     // revolutions only: without the keys, their points keep those scenes (and hashes).
     m.mesher = base.value("mesher", std::string("snappy"));
     m.residence = base.value("steady_window_residence", 0.0);
-    // Likewise the numerics presets and the balance verdict: older bases ran legacy and windows.
+    // Likewise the numerics presets: older bases ran the legacy settings.
     m.numerics = base.value("numerics", std::string("legacy"));
-    m.verdict = base.value("steady_verdict", std::string("windows"));
     const double muS0 = m.build().material.muS;
     if (p.contains("mu_s")) m.muS = param(p, "mu_s");
     if (p.contains("delta_mu")) m.muD = m.muS.value_or(muS0) + param(p, "delta_mu");
@@ -479,8 +476,6 @@ void addCampaign(CLI::App& app, Action& action) {
                    "Mixer: steady-test windows span at least this share of the residence time M/feed")
         ->capture_default_str();
     cr->add_option("--numerics", o->numerics, "Mixer: solver settings preset fast | legacy")
-        ->capture_default_str();
-    cr->add_option("--steady-verdict", o->verdict, "Mixer: balance | windows (see mixer --help)")
         ->capture_default_str();
     cr->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
     cr->add_flag("--json", o->json, "Print JSON");

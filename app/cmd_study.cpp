@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include <cmath>
+#include <cstdio>
 #include <iostream>
 
 #include "app/collapse_options.hpp"
@@ -7,6 +9,7 @@
 #include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
 #include "studies/collapse_study.hpp"
+#include "post/verdict_replay.hpp"
 #include "studies/mixer_study.hpp"
 
 namespace mixload::app {
@@ -20,6 +23,12 @@ struct StudyCmd {
     std::vector<std::string> rheologies{"muI"};
     std::string out = "runs/studies/collapse";
     int jobs = 2;
+    bool json = false;
+};
+
+struct VerdictCmd {
+    std::vector<std::string> runs;
+    double tol = 0.01, flowTol = 0.03;
     bool json = false;
 };
 
@@ -149,6 +158,66 @@ void addStudy(CLI::App& app, Action& action) {
                            << "\nM(t) of every run: " << r["histories_plot"].get<std::string>() << '\n';
             for (const auto& row : r["rows"])
                 if (row.contains("error")) return 1;
+            return 0;
+        };
+    });
+
+    auto* v = study->add_subcommand(
+        "verdict", "Replay finished mixer runs' histories through the window and the balance steady "
+                   "tests: where each would have stopped, with which loading, against the history's end");
+    auto vo = std::make_shared<VerdictCmd>();
+    v->add_option("runs", vo->runs, "Mixer run directories")->required();
+    v->add_option("--steady-tol", vo->tol, "Tolerance of both tests")->capture_default_str();
+    v->add_option("--steady-flow-tol", vo->flowTol, "Outflow tolerance of both tests")
+        ->capture_default_str();
+    v->add_flag("--json", vo->json, "Print JSON");
+    v->callback([&action, vo] {
+        action = [vo] {
+            requireRange("steady-tol", vo->tol, 0.0, 0.5, false, true);
+            requireRange("steady-flow-tol", vo->flowTol, 0.0, 1.0, false, true);
+            nlohmann::json rows = nlohmann::json::array();
+            for (const auto& d : vo->runs) rows.push_back(post::replayVerdicts(d, vo->tol, vo->flowTol));
+            // A false steady: a verdict whose loading misses the history's final loading by more
+            // than the tolerance.
+            int called = 0, falseSteady = 0, earlier = 0;
+            for (auto& r : rows) {
+                const double final = r["final_loading_kg"].get<double>();
+                for (const char* k : {"windows", "balance"})
+                    if (!r[k].is_null())
+                        r[k]["error_vs_final"] = r[k]["loading_kg"].get<double>() / final - 1;
+                if (r["balance"].is_null()) continue;
+                ++called;
+                if (std::abs(r["balance"]["error_vs_final"].get<double>()) > vo->tol) ++falseSteady;
+                if (!r["windows"].is_null() &&
+                    r["balance"]["time_s"].get<double>() < r["windows"]["time_s"].get<double>())
+                    ++earlier;
+            }
+            const nlohmann::json out{{"runs", rows},
+                                     {"balance_verdicts", called},
+                                     {"balance_false_steady", falseSteady},
+                                     {"balance_earlier_than_windows", earlier}};
+            if (vo->json) {
+                std::cout << out.dump(2) << '\n';
+                return 0;
+            }
+            std::printf("%-8s %-8s %8s %10s | %-22s | %-22s\n", "rpm", "feed", "end [s]",
+                        "final [kg]", "windows: t [s], dM", "balance: t [s], dM");
+            for (const auto& r : rows) {
+                auto cell = [&](const char* k) {
+                    char b[64];
+                    if (r[k].is_null()) return std::string("not reached");
+                    std::snprintf(b, sizeof b, "%7.2f, %+6.2f%%", r[k]["time_s"].get<double>(),
+                                  100 * r[k]["error_vs_final"].get<double>());
+                    return std::string(b);
+                };
+                std::printf("%-8g %-8g %8.2f %10.5f | %-22s | %-22s  %s\n", r["rpm"].get<double>(),
+                            r["feed_kg_h"].get<double>(), r["end_time_s"].get<double>(),
+                            r["final_loading_kg"].get<double>(), cell("windows").c_str(),
+                            cell("balance").c_str(), r["run_dir"].get<std::string>().c_str());
+            }
+            std::printf("balance verdicts %d, of which false steady (off the final loading by more "
+                        "than %g%%) %d, earlier than the window test %d\n",
+                        called, 100 * vo->tol, falseSteady, earlier);
             return 0;
         };
     });

@@ -40,10 +40,6 @@ void MixerOptions::add(CLI::App* cmd, bool withMethod) {
     cmd->add_option("--steady-flow-tol", flowTol,
                     "Steady: mean outflow within this fraction of the feed");
     cmd->add_option("--min-time", minTime, "No steady verdict before this time [s]");
-    cmd->add_option("--steady-verdict", verdict,
-                    "balance (default: the change still to come by mass balance, over one "
-                    "relaxation time, in windows of --steady-window-revs) | windows (two windows "
-                    "of at least --steady-window-residence x M/feed, as before)");
     cmd->add_option("--numerics", numerics,
                     "Solver settings preset: fast (default) | legacy (every run before the "
                     "presets); the options below adjust either")
@@ -96,7 +92,6 @@ scene::MixerScene MixerOptions::build() const {
     if (tol) s.steadyTol = *tol;
     if (flowTol) s.steadyFlowTol = *flowTol;
     if (minTime) s.minTime = *minTime;
-    if (verdict) s.steadyVerdict = *verdict;
     if (numerics) s.numerics = scene::MixerNumerics::named(*numerics);
     if (airViscosity) s.numerics.airViscosity = *airViscosity;
     if (courantAlphaMin) s.numerics.courantAlphaMin = *courantAlphaMin;

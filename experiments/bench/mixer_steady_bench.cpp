@@ -54,7 +54,6 @@ nlohmann::json runSteadyBench(const SteadyBench& b) {
     if (b.points.empty()) throw InputError("points", "(none)", "at least one rpm:feed point");
     scene::MixerScene base = b.scene;
     base.numerics = scene::MixerNumerics::named("legacy");
-    base.steadyVerdict = "windows";
     // Every scene is built and checked before anything runs.
     std::vector<scene::MixerScene> current, legacy;
     for (const auto& [rpm, feed] : b.points) {
@@ -69,14 +68,14 @@ nlohmann::json runSteadyBench(const SteadyBench& b) {
         l.validate();
         legacy.push_back(l);
     }
-    fs::remove_all(b.out);
+    if (!b.resume) fs::remove_all(b.out);
     auto run = [&](const scene::MixerScene& s, const fs::path& dir, const fs::path& warm) {
         run::MixerJob job;
         job.scene = s;
         job.np = b.np;
         job.out = dir;
         job.progress = b.progress;
-        job.reuse = false;
+        job.reuse = b.resume;
         job.profile = true;
         job.warmFrom = warm;
         return run::runMixer(job);
@@ -88,21 +87,24 @@ nlohmann::json runSteadyBench(const SteadyBench& b) {
         const std::string tag = "p" + std::to_string(i);
         if (b.baseline) {
             baseResult[i] = run(legacy[i], b.out / (tag + "-baseline"), {});
-            rows.push_back(row("baseline (legacy, windows, cold)", b.points[i], baseResult[i]));
+            rows.push_back(row("baseline (legacy, cold)", b.points[i], baseResult[i]));
             baseWall.push_back(baseResult[i]["solver_wall_seconds"].get<double>());
         }
         coldResult[i] = run(current[i], b.out / (tag + "-cold"), {});
         rows.push_back(row("current, cold", b.points[i], coldResult[i]));
         coldWall.push_back(coldResult[i]["solver_wall_seconds"].get<double>());
     }
-    // Warm runs start from the previous point's finished field (the last point's for the first):
-    // a neighbour in a campaign, not the answer itself.
-    if (b.warm && b.points.size() > 1)
+    // Warm runs start from the same point's baseline field (the new numerics must keep that
+    // answer), or without a baseline from the previous point's cold run (the last's for the first).
+    if (b.warm && (b.baseline || b.points.size() > 1))
         for (size_t i = 0; i < b.points.size(); ++i) {
-            const size_t from = (i + b.points.size() - 1) % b.points.size();
+            const size_t from = b.baseline ? i : (i + b.points.size() - 1) % b.points.size();
+            const auto& source = b.baseline ? baseResult[from] : coldResult[from];
             const auto r = run(current[i], b.out / ("p" + std::to_string(i) + "-warm"),
-                               coldResult[from]["run_dir"].get<std::string>());
-            rows.push_back(row("current, warm from " + pointName(b.points[from]), b.points[i], r));
+                               source["run_dir"].get<std::string>());
+            rows.push_back(row(b.baseline ? "current, warm from the baseline"
+                                          : "current, warm from " + pointName(b.points[from]),
+                               b.points[i], r));
             warmWall.push_back(r["solver_wall_seconds"].get<double>());
         }
     // Loadings against the baseline's (or the cold current run's without a baseline).

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The cost of a steady mixer loading: the same operating points run to their steady verdict with
-// a baseline setup (legacy numerics, window verdict, cold start from the deposit) and with the
-// current one, cold and warm, in one process, with the answer beside the time.
+// the baseline setup (legacy numerics, cold start from the deposit) and with the current one, cold
+// and warm, in one process, with the answer beside the time.
 #pragma once
 #include <filesystem>
 #include <utility>
@@ -16,8 +16,12 @@ namespace mixload::experiments {
 struct SteadyBench {
     scene::MixerScene scene;                       // the current setup; points override rpm, feed
     std::vector<std::pair<double, double>> points;  // (rpm, feed kg/h)
-    bool baseline = true;  // also run legacy numerics + window verdict, cold
-    bool warm = true;      // also run each point warm, from the previous point's current-setup run
+    bool baseline = true;  // also run legacy numerics, cold
+    // Also run each point warm: from the same point's baseline run when there is one (the cost of
+    // a verdict from a converged field, e.g. a campaign rerun with new numerics), else from the
+    // previous point's cold run.
+    bool warm = true;
+    bool resume = false;  // reuse finished runs in out instead of replacing it
     int np = 1;
     std::filesystem::path out;  // scratch: replaced
     bool progress = false;

@@ -151,7 +151,6 @@ std::string controlDict(const scene::MixerScene& s, bool keepAllTimes, bool prof
        << "        window " << num(s.steadyWindow()) << ";\n"
        << "        period " << num(s.steadyPeriod()) << ";\n"
        << "        residenceFraction " << num(s.steadyResidenceFraction()) << ";\n"
-       << "        verdict " << (s.balanceVerdict() ? "balance" : "windows") << ";\n"
        << "        tolerance " << num(s.steadyTol) << ";\n"
        << "        flowTolerance " << num(s.steadyFlowTol) << ";\n"
        << "        minTime " << num(s.minTime) << ";\n"

@@ -77,7 +77,6 @@ bool Foam::functionObjects::loadingMonitor::read(const dictionary& dict)
     window_ = dict.get<scalar>("window");
     period_ = dict.getOrDefault<scalar>("period", 0);
     residenceFraction_ = dict.getOrDefault<scalar>("residenceFraction", 0);
-    balance_ = dict.getOrDefault<word>("verdict", "windows") == "balance";
     tol_ = dict.get<scalar>("tolerance");
     flowTol_ = dict.get<scalar>("flowTolerance");
     minTime_ = dict.get<scalar>("minTime");
@@ -166,12 +165,9 @@ bool Foam::functionObjects::loadingMonitor::execute()
         (
             window_, period_, residenceFraction_, M, feed_
         );
-        // Keep what the test reads: two windows (window test), or twelve and the residence time
-        // (balance test).
-        const scalar keep =
-            balance_ ? max(13.5*W, mag(M)/max(feed_, SMALL) + 2*W) : 2.5*W;
+        // Keep the last 2.5 windows: the test reads two.
         label drop = 0;
-        while (drop < ts_.size() - 2 && ts_[drop + 1] < t - keep)
+        while (drop < ts_.size() - 2 && ts_[drop + 1] < t - 2.5*W)
         {
             ++drop;
         }
@@ -188,21 +184,10 @@ bool Foam::functionObjects::loadingMonitor::execute()
         std::vector<double> T(ts_.begin(), ts_.end());
         std::vector<double> Ms(ms_.begin(), ms_.end());
         std::vector<double> Cs(cs_.begin(), cs_.end());
-        mixload::steady::BalanceVerdict v;
-        if (balance_)
-        {
-            v = mixload::steady::testBalance
-            (
-                T, Ms, Cs, W, feed_, tol_, flowTol_, minTime_
-            );
-        }
-        else
-        {
-            static_cast<mixload::steady::Verdict&>(v) = mixload::steady::test
-            (
-                T, Ms, Cs, W, feed_, tol_, flowTol_, minTime_
-            );
-        }
+        const mixload::steady::Verdict v = mixload::steady::test
+        (
+            T, Ms, Cs, W, feed_, tol_, flowTol_, minTime_
+        );
         if (v.steady && !steady_)
         {
             steady_ = true;
@@ -221,12 +206,6 @@ bool Foam::functionObjects::loadingMonitor::execute()
                     << "window " << W << nl
                     << "drift " << v.drift << nl
                     << "flow_error " << v.flowError << nl;
-                if (balance_)
-                {
-                    os  << "relaxation_time " << v.tau << nl
-                        << "remaining_kg " << v.remaining << nl
-                        << "hold_windows " << v.holdWindows << nl;
-                }
             }
             const_cast<Time&>(time_).writeAndEnd();
         }

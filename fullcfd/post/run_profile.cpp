@@ -194,6 +194,7 @@ nlohmann::json readRunProfile(const fs::path& caseDir) {
     std::map<std::string, std::pair<double, double>> iters;  // field -> (solves, iterations)
     std::map<std::string, int> limiter;
     double firstTime = std::nan(""), lastTime = std::nan("");
+    long steps = 0;
     while (std::getline(is, line)) {
         if (line.rfind("Courant Number mean:", 0) == 0) {
             coMeanNow = after(line, "mean:");
@@ -212,6 +213,7 @@ nlohmann::json readRunProfile(const fs::path& caseDir) {
             limiter[k == 0 ? "flow Courant" : k == 1 ? "interface Courant" : "maxDeltaT"]++;
         } else if (line.rfind("Time = ", 0) == 0) {
             const double t = after(line, "Time = ");
+            ++steps;
             if (std::isnan(firstTime)) firstTime = t;
             lastTime = t;
         } else if (const auto at = line.find("Solving for "); at != std::string::npos) {
@@ -222,25 +224,27 @@ nlohmann::json readRunProfile(const fs::path& caseDir) {
             it.second += after(line, "No Iterations");
         }
     }
-    if (dts.empty()) throw run::RunError("no time steps in " + log.string());
+    if (steps == 0) throw run::RunError("no time steps in " + log.string());
 
+    // Local time stepping (lts) has no global time step: those entries stay null.
     nlohmann::json out;
-    out["steps"] = dts.size();
+    out["steps"] = steps;
     out["simulated_s"] = number(lastTime - firstTime);
-    out["mean_delta_t_s"] = mean(dts);
-    out["median_delta_t_s"] = median(dts);
+    out["mean_delta_t_s"] = number(mean(dts));
+    out["median_delta_t_s"] = number(median(dts));
     out["limits"] = {{"maxCo", number(maxCo)}, {"maxAlphaCo", number(maxAlphaCo)},
                      {"maxDeltaT_s", number(maxDeltaT)}};
     out["courant"] = {{"mean", number(mean(coMean))},
                       {"median_max", number(median(coMax))},
-                      {"max", number(*std::max_element(coMax.begin(), coMax.end()))},
+                      {"max", coMax.empty() ? nlohmann::json()
+                                            : number(*std::max_element(coMax.begin(), coMax.end()))},
                       {"interface_median_max", number(median(acoMax))}};
     nlohmann::json lim = nlohmann::json::object();
-    for (const auto& [k, n] : limiter) lim[k] = double(n) / dts.size();
+    for (const auto& [k, n] : limiter) lim[k] = double(n) / std::max<size_t>(dts.size(), 1);
     out["step_set_by"] = lim;
     nlohmann::json solves = nlohmann::json::object();
     for (const auto& [field, v] : iters)
-        solves[field] = {{"solves_per_step", v.first / dts.size()},
+        solves[field] = {{"solves_per_step", v.first / steps},
                          {"iterations_per_solve", v.second / v.first}};
     out["solves"] = solves;
 
@@ -259,14 +263,15 @@ nlohmann::json readRunProfile(const fs::path& caseDir) {
 std::string formatRunProfile(const nlohmann::json& p) {
     std::ostringstream os;
     char buf[256];
+    auto val = [](const nlohmann::json& v, double scale = 1) {
+        return v.is_null() ? std::nan("") : scale * v.get<double>();
+    };
     std::snprintf(buf, sizeof buf,
                   "  profile: %ld steps over %.4g s, mean dt %.3g ms (limit %.3g ms); Courant mean "
                   "%.3g, median max %.3g, interface median max %.3g\n",
-                  p["steps"].get<long>(), p["simulated_s"].is_null() ? 0.0 : p["simulated_s"].get<double>(),
-                  1e3 * p["mean_delta_t_s"].get<double>(),
-                  p["limits"]["maxDeltaT_s"].is_null() ? 0.0 : 1e3 * p["limits"]["maxDeltaT_s"].get<double>(),
-                  p["courant"]["mean"].get<double>(), p["courant"]["median_max"].get<double>(),
-                  p["courant"]["interface_median_max"].is_null() ? 0.0 : p["courant"]["interface_median_max"].get<double>());
+                  p["steps"].get<long>(), val(p["simulated_s"]), val(p["mean_delta_t_s"], 1e3),
+                  val(p["limits"]["maxDeltaT_s"], 1e3), val(p["courant"]["mean"]),
+                  val(p["courant"]["median_max"]), val(p["courant"]["interface_median_max"]));
     os << buf << "    time step set by:";
     for (const auto& [k, v] : p["step_set_by"].items()) {
         std::snprintf(buf, sizeof buf, " %s %.0f%%", k.c_str(), 100 * v.get<double>());

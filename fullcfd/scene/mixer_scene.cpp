@@ -143,8 +143,6 @@ void MixerScene::validate() const {
     requireRange("steady-tol", steadyTol, 0.0, 0.5, false, true);
     requireRange("steady-flow-tol", steadyFlowTol, 0.0, 1.0, false, true);
     requireRange("min-time", minTime, 0.0, 1e5);
-    if (steadyVerdict != "windows" && steadyVerdict != "balance")
-        throw InputError("steady-verdict", steadyVerdict, "windows|balance");
     const double cells = geometry.openVolume() / std::pow(cellSize, 3);
     if (cells > 5e6)
         throw InputError("cell-size", formatNumber(cellSize),
@@ -174,7 +172,7 @@ double MixerScene::steadyWindow() const {
 double MixerScene::steadyPeriod() const { return method == "lts" || rpm <= 0 ? 0.0 : revolutionTime(); }
 
 double MixerScene::steadyResidenceFraction() const {
-    return method == "lts" || balanceVerdict() ? 0.0 : steadyResidence;
+    return method == "lts" ? 0.0 : steadyResidence;
 }
 
 double MixerScene::steadyWindow(double loadingKg) const {
@@ -235,8 +233,6 @@ nlohmann::json MixerScene::toJson() const {
     if (method != "sm" && mesher != "snappy") j["mesher"] = mesher;
     // Likewise the residence-time window: runs before it had windows of revolutions only.
     if (method != "lts" && steadyResidence > 0) j["steady_window_residence"] = steadyResidence;
-    // Likewise the balance verdict: every run before it used windows.
-    if (balanceVerdict()) j["steady_verdict"] = steadyVerdict;
     return j;
 }
 
@@ -258,6 +254,12 @@ public:
         if (!node) return fallback;
         if (auto v = node.value<double>()) return *v;
         throw InputError(name_ + "." + key, "<not a number>", "a number (in " + origin_ + ")");
+    }
+    int whole(const std::string& key, int fallback) {
+        const double v = number(key, fallback);
+        if (v != std::floor(v) || std::abs(v) > 1e9)
+            throw InputError(name_ + "." + key, formatNumber(v), "a whole number");
+        return static_cast<int>(v);
     }
     std::string text(const std::string& key, const std::string& fallback) {
         seen_.insert(key);
@@ -307,10 +309,7 @@ MixerScene parseMixerScene(const std::string& text, const std::string& origin) {
     g.length = barrel.number("length_m", g.length);
     g.bore = barrel.number("bore_m", g.bore);
     g.shaftDiameter = imp.number("shaft_diameter_m", g.shaftDiameter);
-    const double count = imp.number("paddle_count", g.paddleCount);
-    if (count != std::floor(count))
-        throw InputError("impeller.paddle_count", formatNumber(count), "a whole number");
-    g.paddleCount = static_cast<int>(count);
+    g.paddleCount = imp.whole("paddle_count", g.paddleCount);
     g.tipClearance = imp.number("paddle_tip_clearance_m", g.tipClearance);
     g.paddleWidth = imp.number("paddle_width_m", g.paddleWidth);
     g.paddleThickness = imp.number("paddle_thickness_m", g.paddleThickness);
@@ -338,15 +337,9 @@ MixerScene parseMixerScene(const std::string& text, const std::string& origin) {
     auto& n = s.numerics;
     n.airViscosity = num.number("air_viscosity_m2_s", n.airViscosity);
     n.courantAlphaMin = num.number("courant_alpha_min", n.courantAlphaMin);
-    const double corr = num.number("non_orth_correctors", n.nonOrthCorrectors);
-    if (corr != std::floor(corr))
-        throw InputError("numerics.non_orth_correctors", formatNumber(corr), "a whole number");
-    n.nonOrthCorrectors = static_cast<int>(corr);
+    n.nonOrthCorrectors = num.whole("non_orth_correctors", n.nonOrthCorrectors);
     n.maxDeltaT = num.number("max_delta_t_s", n.maxDeltaT);
-    const double sub = num.number("alpha_sub_cycles", n.alphaSubCycles);
-    if (sub != std::floor(sub))
-        throw InputError("numerics.alpha_sub_cycles", formatNumber(sub), "a whole number");
-    n.alphaSubCycles = static_cast<int>(sub);
+    n.alphaSubCycles = num.whole("alpha_sub_cycles", n.alphaSubCycles);
     for (auto* sec : {&barrel, &imp, &weir, &inlet, &powder, &op, &mesh, &num}) sec->checkKnown();
     for (int i = 0; i < 3; ++i)
         requireRange(std::string("mesh.") + (i == 0 ? "coarse" : i == 1 ? "medium" : "fine") +

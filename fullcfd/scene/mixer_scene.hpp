@@ -90,11 +90,6 @@ struct MixerScene {
     double steadyTol = 0.02;       // ... consecutive window means within this fraction ...
     double steadyFlowTol = 0.10;   // ... and mean outflow within this fraction of the feed
     double minTime = 0;            // no steady verdict before this time [s]
-    // windows: two windows of the loading and the outflow (steady::test); balance: the change
-    // still to come by mass balance, over one relaxation time (steady::testBalance), with windows
-    // of steadyWindowRevs revolutions and no residence-time rule. lts and runs without feed use
-    // windows.
-    std::string steadyVerdict = "balance";
     double gravity = 9.81;
     double maxCourant = 1.0;       // flow and interface Courant limit (campaign retries halve it)
     MixerNumerics numerics = MixerNumerics::named("fast");
@@ -118,10 +113,6 @@ struct MixerScene {
     double steadyResidenceFraction() const;
     // The window for a loading M [kg] (steady::windowLength with the three settings above).
     double steadyWindow(double loadingKg) const;
-    // Without feed there is no balance to read: the window test then.
-    bool balanceVerdict() const {
-        return steadyVerdict == "balance" && method != "lts" && feedKgH > 0;
-    }
 
     nlohmann::json toJson() const;  // canonical: every input that changes the result
     std::string hash() const;

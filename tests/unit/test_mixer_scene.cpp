@@ -66,6 +66,27 @@ TEST(MixerScene, OnlyNewSettingsEnterTheHash) {
     expectInvalid("[mesh]\nmesher = \"tet\"\n", "invalid mesher = tet: allowed ogrid|snappy");
 }
 
+TEST(MixerScene, NumericsEnterTheRecordOnlyWhenNew) {
+    // The default: fast numerics (no non-orthogonal correctors), in the record. Legacy numerics
+    // leave no key: old runs keep their hashes.
+    auto a = parse("");
+    EXPECT_EQ(a.numerics.preset, "fast");
+    EXPECT_EQ(a.toJson()["numerics"]["non_orth_correctors"], 0);
+    a.numerics = scene::MixerNumerics::named("legacy");
+    EXPECT_FALSE(a.toJson().contains("numerics"));
+    // The same settings reached key by key hash alike, whatever the preset's name.
+    auto b = parse("[numerics]\npreset = \"legacy\"\nnon_orth_correctors = 0\n");
+    auto c = parse("");
+    EXPECT_EQ(b.toJson()["numerics"], c.toJson()["numerics"]);
+    expectInvalid("[numerics]\npreset = \"turbo\"\n", "legacy|fast");
+    expectInvalid("[numerics]\nnon_orth_correctors = 0.5\n", "numerics.non_orth_correctors");
+    expectInvalid("[numerics]\ncourant_alpha_min = 1.5\n", "courant-alpha-min");
+    expectInvalid("[numerics]\nmax_courant = 2\n", "unknown key numerics.max_courant");
+    // The castellated mesh needs its non-orthogonal correctors.
+    expectInvalid("[mesh]\nmesher = \"snappy\"\n", "non-orth-correctors");
+    EXPECT_NO_THROW(parse("[mesh]\nmesher = \"snappy\"\n[numerics]\npreset = \"legacy\"\n"));
+}
+
 TEST(MixerScene, RejectsImpossibleGeometry) {
     expectInvalid("[impeller]\npaddle_tip_clearance_m = -0.001\n", "impeller.paddle_tip_clearance_m");
     expectInvalid("[barrel]\nbore_m = 0.05\n[impeller]\nshaft_diameter_m = 0.045\n",

@@ -141,7 +141,15 @@ double firstSteady(const History& h, double from, double every, Test verdict) {
 }
 }  // namespace
 
-using mixload::steady::testBalance;
+// The balance test as the monitor calls it: windows of w, and the window test's window of half
+// the residence time in whole periods.
+mixload::steady::BalanceVerdict testBalance(const std::vector<double>& t, const std::vector<double>& M,
+                                            const std::vector<double>& C, double w, double feed,
+                                            double tol, double flowTol, double minTime,
+                                            double period = kRev) {
+    const double wres = mixload::steady::windowLength(w, period, 0.5, M.back(), feed);
+    return mixload::steady::testBalance(t, M, C, w, wres, feed, tol, flowTol, minTime);
+}
 
 TEST(SteadyBalance, RelaxationIsSteadyOnceTheChangeToComeIsWithinTolerance) {
     // M relaxes to 0.024 kg with tau = 11 s from 20% above (the 39 rpm, 5 kg/h run's shape).
@@ -156,15 +164,25 @@ TEST(SteadyBalance, RelaxationIsSteadyOnceTheChangeToComeIsWithinTolerance) {
     const double M = Minf * (1 + 0.2 * std::exp(-at / tau));
     EXPECT_LE(std::abs(M - Minf) / Minf, 0.01) << "at " << at;
     EXPECT_LT(at, tau * std::log(20.0) + 3 * kW);
-    // The relaxation time is read off the history.
-    const auto v = testBalance(h.t, h.M, h.C, kW, kFeed, 0.01, 0.03, 0);
+    // Earlier than the window test, by the balance.
+    auto windows = [&](const auto& t, const auto& M, const auto& C) {
+        const double W = mixload::steady::windowLength(kW, kRev, 0.5, M.back(), kFeed);
+        return test(t, M, C, W, kFeed, 0.01, 0.03, 0).steady;
+    };
+    EXPECT_LT(at, firstSteady(h, kW, 0.1, windows) - 1.0);
+    // The relaxation time is read off the history, and the verdict came from the balance.
+    const auto n = static_cast<std::size_t>(std::upper_bound(h.t.begin(), h.t.end(), at + 1e-12) - h.t.begin());
+    const std::vector<double> pt(h.t.begin(), h.t.begin() + n), pM(h.M.begin(), h.M.begin() + n),
+        pC(h.C.begin(), h.C.begin() + n);
+    const auto v = testBalance(pt, pM, pC, kW, kFeed, 0.01, 0.03, 0);
+    EXPECT_TRUE(v.byBalance);
     EXPECT_NEAR(v.tau, tau, 0.1 * tau);
 }
 
 TEST(SteadyBalance, FlatHistoryIsHeldForAResidenceTime) {
     // A run started from a finished field: the loading is flat (paddle ripple on top). A crest of a
-    // slow oscillation looks the same for a while, so the balance test, like the window test, waits
-    // for a residence time M/feed (17.3 s here) of flat history.
+    // slow oscillation looks the same for a while, so the balance test leaves it to the window
+    // test, which waits for two windows of half the residence time M/feed (17.3 s here).
     const auto h = make(40, 0.005, kFeed, [](double t) {
         return 0.024 * (1 + 0.003 * std::sin(24 * std::numbers::pi * t / kRev));
     });
@@ -176,13 +194,16 @@ TEST(SteadyBalance, FlatHistoryIsHeldForAResidenceTime) {
     EXPECT_LE(at, 0.024 / kFeed + kW + 0.2);
 }
 
-TEST(SteadyBalance, FillingDrainingAndNoFeedAreNotSteady) {
+TEST(SteadyBalance, FillingAndDrainingAreNotSteady) {
     const auto filling = make(30, 0.01, kFeed, [](double t) { return 0.02 + 0.5 * kFeed * t; });
     EXPECT_FALSE(testBalance(filling.t, filling.M, filling.C, kW, kFeed, 0.01, 0.03, 0).steady);
     const auto draining = make(30, 0.01, kFeed, [](double t) { return 0.4 * std::exp(-t / 10); });
     EXPECT_FALSE(testBalance(draining.t, draining.M, draining.C, kW, kFeed, 0.01, 0.03, 0).steady);
+    // Without feed there is no balance: the window test's verdict (a resting bed is steady).
     const auto still = make(30, 0.01, 0.0, [](double) { return 0.3; });
-    EXPECT_FALSE(testBalance(still.t, still.M, still.C, kW, 0.0, 0.01, 0.03, 0).steady);
+    const auto v = testBalance(still.t, still.M, still.C, kW, 0.0, 0.01, 0.03, 0);
+    EXPECT_TRUE(v.steady);
+    EXPECT_FALSE(v.byBalance);
 }
 
 TEST(SteadyBalance, SlowOscillationIsNeverSteady) {
@@ -194,7 +215,7 @@ TEST(SteadyBalance, SlowOscillationIsNeverSteady) {
         return 0.0187 * (1 + 0.06 * std::sin(2 * std::numbers::pi * t / 20.0));
     });
     auto balance = [&](const auto& t, const auto& M, const auto& C) {
-        return testBalance(t, M, C, 3 * rev, kFeed, 0.01, 0.03, 0).steady;
+        return testBalance(t, M, C, 3 * rev, kFeed, 0.01, 0.03, 0, rev).steady;
     };
     EXPECT_LT(firstSteady(h, 3 * rev, 0.05, balance), 0);
 }
@@ -207,7 +228,7 @@ TEST(SteadyBalance, SmallSlowOscillationAboveToleranceIsNeverSteady) {
         return 0.0187 * (1 + 0.02 * std::sin(2 * std::numbers::pi * t / 20.0));
     });
     auto balance = [&](const auto& t, const auto& M, const auto& C) {
-        return testBalance(t, M, C, 3 * rev, kFeed, 0.01, 0.03, 0).steady;
+        return testBalance(t, M, C, 3 * rev, kFeed, 0.01, 0.03, 0, rev).steady;
     };
     EXPECT_LT(firstSteady(h, 3 * rev, 0.05, balance), 0);
 }

@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "post/verdict_replay.hpp"
+
+#include "common/atomic_file.hpp"
+#include "post/mixer_results.hpp"
+#include "run/foam_runner.hpp"
+#include "steadyLoading.H"
+
+namespace mixload::post {
+
+namespace fs = std::filesystem;
+
+nlohmann::json replayVerdicts(const fs::path& caseDir, double tol, double flowTol) {
+    const fs::path sceneFile = caseDir / "scene.json";
+    if (!fs::exists(sceneFile)) throw run::RunError("no scene.json in " + caseDir.string());
+    const auto sc = nlohmann::json::parse(readFile(sceneFile))["scene"];
+    const double rpm = sc.value("rpm", 0.0), feed = sc.value("feed_kg_h", 0.0) / 3600;
+    const double revs = sc.value("steady_window_revs", 3.0);
+    const double minTime = sc.value("min_time_s", 0.0);
+    const double period = rpm > 0 ? 60.0 / rpm : 0.0;
+    const double base = revs * (rpm > 0 ? period : 1.0);
+    // The window test as campaigns now run it (half the residence time), the balance test with
+    // windows of the base revolutions.
+    const double residence = 0.5;
+
+    const auto hist = readLoadingHistory(caseDir);
+    std::vector<double> t, M, C;
+    nlohmann::json windows, balance;
+    for (const auto& h : hist) {
+        // The monitor samples every 1/50 of its shortest window.
+        if (!t.empty() && h.t - t.back() < base / 50) continue;
+        t.push_back(h.t);
+        M.push_back(h.loading);
+        C.push_back(h.out);
+        if (windows.is_null()) {
+            const double W = steady::windowLength(base, period, residence, M.back(), feed);
+            const auto v = steady::test(t, M, C, W, feed, tol, flowTol, minTime);
+            if (v.steady) windows = {{"time_s", t.back()}, {"loading_kg", v.meanLoading}};
+        }
+        if (balance.is_null()) {
+            const double W = steady::windowLength(base, period, 0, M.back(), feed);
+            const double Wres = steady::windowLength(base, period, residence, M.back(), feed);
+            const auto v = steady::testBalance(t, M, C, W, Wres, feed, tol, flowTol, minTime);
+            if (v.steady)
+                balance = {{"time_s", t.back()},
+                           {"loading_kg", v.meanLoading},
+                           {"relaxation_time_s", v.tau},
+                           {"by_balance", v.byBalance}};
+        }
+    }
+    if (t.size() < 2) throw run::RunError("too short a loading history in " + caseDir.string());
+    // The final loading: the mean over the last window of the window test.
+    const double W = std::min(steady::windowLength(base, period, residence, M.back(), feed),
+                              t.back() - t.front());
+    const double final = W > 0 ? steady::windowMean(t, M, t.back() - W, t.back()) : M.back();
+    return {{"run_dir", caseDir.string()},
+            {"rpm", rpm},
+            {"feed_kg_h", feed * 3600},
+            {"end_time_s", t.back()},
+            {"final_loading_kg", final},
+            {"windows", windows},
+            {"balance", balance}};
+}
+
+}  // namespace mixload::post

@@ -1,0 +1,18 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Replays a finished mixer run's loading history through both steady tests, sampled as the
+// loading monitor samples it, to compare where each would have stopped the run and with which
+// loading: the evidence for the balance verdict's false-steady rate (README, "Cost of a steady
+// point").
+#pragma once
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+namespace mixload::post {
+
+// For the run in caseDir (its scene.json gives rpm, feed and windows): the history's end and final
+// loading (mean of its last window), and for "windows" and "balance" the first time each test
+// passes with its loading, or null. tol and flowTol: the tests' tolerances.
+nlohmann::json replayVerdicts(const std::filesystem::path& caseDir, double tol, double flowTol);
+
+}  // namespace mixload::post

@@ -1,0 +1,61 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Regression of the steady loading (label slow: about 20 minutes on one core). The current setup
+// (numerics preset `fast`) must give, at three points of the 1 cm O-grid started from the 0.03 kg
+// deposit, the loadings that the setup before it (legacy numerics) gave, and a run started warm
+// from another point's field must reach the cold run's loading.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "../cfd/cli_harness.hpp"
+
+using namespace mixload::testing;
+namespace fs = std::filesystem;
+
+namespace {
+// Legacy loadings, measured on 2026-11-29 at commit cbd2d56 (before the presets) with
+// `mixload mixer --cell-size 0.01 --initial-loading-kg 0.03 --steady-tol 0.01
+// --steady-flow-tol 0.03 --rpm R --feed-kg-h F` (README, "Cost of a steady point").
+struct Point {
+    double rpm, feed, legacyKg;
+};
+constexpr Point kPoints[] = {{39, 5, 0.024087}, {39, 45, 0.090060}, {254, 45, 0.034530}};
+
+nlohmann::json run(const fs::path& out, const Point& p, const std::string& warmFrom = "") {
+    std::vector<std::string> args{"mixer", "--cell-size", "0.01", "--initial-loading-kg", "0.03",
+                                  "--steady-tol", "0.01", "--steady-flow-tol", "0.03", "--rpm",
+                                  std::to_string(p.rpm), "--feed-kg-h", std::to_string(p.feed),
+                                  "--out", out.string(), "--json"};
+    if (!warmFrom.empty()) args.insert(args.end(), {"--warm-from", warmFrom});
+    const auto r = runMixload(args);
+    EXPECT_EQ(r.rc, 0) << r.err;
+    return r.rc == 0 ? nlohmann::json::parse(r.out) : nlohmann::json{};
+}
+}  // namespace
+
+TEST(MixerRegression, CurrentSetupKeepsTheLoadingAndWarmStartsReachIt) {
+    const fs::path dir = scratchDir("mixer-regression");
+    std::vector<nlohmann::json> cold;
+    for (const auto& p : kPoints) {
+        cold.push_back(run(dir / ("cold-" + std::to_string(cold.size())), p));
+        const auto& r = cold.back();
+        ASSERT_FALSE(r.is_null());
+        EXPECT_TRUE(r["steady"].get<bool>());
+        EXPECT_TRUE(r["powder_balance_ok"].get<bool>());
+        EXPECT_NEAR(r["loading_kg"].get<double>(), p.legacyKg, 0.01 * p.legacyKg)
+            << p.rpm << " rpm, " << p.feed << " kg/h";
+    }
+    // Warm from the previous point (the first from the last): within the steady tolerance.
+    for (size_t i = 0; i < cold.size(); ++i) {
+        const size_t from = (i + cold.size() - 1) % cold.size();
+        const auto w = run(dir / ("warm-" + std::to_string(i)), kPoints[i],
+                           cold[from]["run_dir"].get<std::string>());
+        ASSERT_FALSE(w.is_null());
+        EXPECT_TRUE(w["steady"].get<bool>());
+        const double m = cold[i]["loading_kg"].get<double>();
+        EXPECT_NEAR(w["loading_kg"].get<double>(), m, 0.01 * m) << "warm at point " << i;
+    }
+}
