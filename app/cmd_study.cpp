@@ -28,7 +28,7 @@ struct StudyCmd {
 
 struct VerdictCmd {
     std::vector<std::string> runs;
-    double tol = 0.01, flowTol = 0.03;
+    double tol = 0.01, flowTol = 0.03, residence = 0.5;
     bool json = false;
 };
 
@@ -170,13 +170,18 @@ void addStudy(CLI::App& app, Action& action) {
     v->add_option("--steady-tol", vo->tol, "Tolerance of both tests")->capture_default_str();
     v->add_option("--steady-flow-tol", vo->flowTol, "Outflow tolerance of both tests")
         ->capture_default_str();
+    v->add_option("--steady-window-residence", vo->residence,
+                  "Window test: windows of at least this share of the residence time M/feed")
+        ->capture_default_str();
     v->add_flag("--json", vo->json, "Print JSON");
     v->callback([&action, vo] {
         action = [vo] {
             requireRange("steady-tol", vo->tol, 0.0, 0.5, false, true);
             requireRange("steady-flow-tol", vo->flowTol, 0.0, 1.0, false, true);
             nlohmann::json rows = nlohmann::json::array();
-            for (const auto& d : vo->runs) rows.push_back(post::replayVerdicts(d, vo->tol, vo->flowTol));
+            requireRange("steady-window-residence", vo->residence, 0.0, 10.0);
+            for (const auto& d : vo->runs)
+                rows.push_back(post::replayVerdicts(d, vo->tol, vo->flowTol, vo->residence));
             // A false steady: a verdict whose loading misses the history's final loading by more
             // than the tolerance.
             int called = 0, falseSteady = 0, earlier = 0;

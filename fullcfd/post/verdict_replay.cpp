@@ -10,7 +10,8 @@ namespace mixload::post {
 
 namespace fs = std::filesystem;
 
-nlohmann::json replayVerdicts(const fs::path& caseDir, double tol, double flowTol) {
+nlohmann::json replayVerdicts(const fs::path& caseDir, double tol, double flowTol,
+                              double residence) {
     const fs::path sceneFile = caseDir / "scene.json";
     if (!fs::exists(sceneFile)) throw run::RunError("no scene.json in " + caseDir.string());
     const auto sc = nlohmann::json::parse(readFile(sceneFile))["scene"];
@@ -19,9 +20,7 @@ nlohmann::json replayVerdicts(const fs::path& caseDir, double tol, double flowTo
     const double minTime = sc.value("min_time_s", 0.0);
     const double period = rpm > 0 ? 60.0 / rpm : 0.0;
     const double base = revs * (rpm > 0 ? period : 1.0);
-    // The window test as campaigns now run it (half the residence time), the balance test with
-    // windows of the base revolutions.
-    const double residence = 0.5;
+    // The balance test reads windows of the base revolutions.
 
     const auto hist = readLoadingHistory(caseDir);
     std::vector<double> t, M, C;

@@ -12,7 +12,9 @@ namespace mixload::post {
 
 // For the run in caseDir (its scene.json gives rpm, feed and windows): the history's end and final
 // loading (mean of its last window), and for "windows" and "balance" the first time each test
-// passes with its loading, or null. tol and flowTol: the tests' tolerances.
-nlohmann::json replayVerdicts(const std::filesystem::path& caseDir, double tol, double flowTol);
+// passes with its loading, or null. tol and flowTol: the tests' tolerances; residence: the window
+// test's share of the residence time M/feed (0.5 as runs use it).
+nlohmann::json replayVerdicts(const std::filesystem::path& caseDir, double tol, double flowTol,
+                              double residence = 0.5);
 
 }  // namespace mixload::post
