@@ -281,3 +281,24 @@ TEST(MixerRun, WarmStartFromSomethingElseIsRejected) {
     fs::create_directories(empty);
     expectRejected({"--cell-size", "0.01", "--warm-from", empty.string()}, "warm-from");
 }
+
+TEST(MixerRun, VerdictReplayReadsAFinishedHistory) {
+    // A run too short for any verdict: both tests "not reached", the history's end and final
+    // loading reported; a bad tolerance is refused.
+    const auto a = runMixer("verdict-source", {"--end-time", "0.3"});
+    ASSERT_FALSE(a.is_null());
+    auto r = runMixload({"study", "verdict", a["run_dir"].get<std::string>(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["runs"].size(), 1u);
+    const auto& row = j["runs"][0];
+    EXPECT_TRUE(row["windows"].is_null());
+    EXPECT_TRUE(row["balance"].is_null());
+    // Sampled as the monitor samples: every 1/50 of 3 revolutions (0.09 s at 39 rpm).
+    EXPECT_NEAR(row["end_time_s"].get<double>(), a["end_time_s"].get<double>(), 0.1);
+    EXPECT_GT(row["final_loading_kg"].get<double>(), 0);
+    EXPECT_EQ(j["balance_false_steady"], 0);
+    r = runMixload({"study", "verdict", a["run_dir"].get<std::string>(), "--steady-tol", "0"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_NE(r.err.find("steady-tol"), std::string::npos) << r.err;
+}
