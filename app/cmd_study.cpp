@@ -178,29 +178,9 @@ void addStudy(CLI::App& app, Action& action) {
         action = [vo] {
             requireRange("steady-tol", vo->tol, 0.0, 0.5, false, true);
             requireRange("steady-flow-tol", vo->flowTol, 0.0, 1.0, false, true);
-            nlohmann::json rows = nlohmann::json::array();
             requireRange("steady-window-residence", vo->residence, 0.0, 10.0);
-            for (const auto& d : vo->runs)
-                rows.push_back(post::replayVerdicts(d, vo->tol, vo->flowTol, vo->residence));
-            // A false steady: a verdict whose loading misses the history's final loading by more
-            // than the tolerance.
-            int called = 0, falseSteady = 0, earlier = 0;
-            for (auto& r : rows) {
-                const double final = r["final_loading_kg"].get<double>();
-                for (const char* k : {"windows", "balance"})
-                    if (!r[k].is_null())
-                        r[k]["error_vs_final"] = r[k]["loading_kg"].get<double>() / final - 1;
-                if (r["balance"].is_null()) continue;
-                ++called;
-                if (std::abs(r["balance"]["error_vs_final"].get<double>()) > vo->tol) ++falseSteady;
-                if (!r["windows"].is_null() &&
-                    r["balance"]["time_s"].get<double>() < r["windows"]["time_s"].get<double>())
-                    ++earlier;
-            }
-            const nlohmann::json out{{"runs", rows},
-                                     {"balance_verdicts", called},
-                                     {"balance_false_steady", falseSteady},
-                                     {"balance_earlier_than_windows", earlier}};
+            const auto out = post::replayAll(vo->runs, vo->tol, vo->flowTol, vo->residence);
+            const auto& rows = out["runs"];
             if (vo->json) {
                 std::cout << out.dump(2) << '\n';
                 return 0;
@@ -222,7 +202,9 @@ void addStudy(CLI::App& app, Action& action) {
             }
             std::printf("balance verdicts %d, of which false steady (off the final loading by more "
                         "than %g%%) %d, earlier than the window test %d\n",
-                        called, 100 * vo->tol, falseSteady, earlier);
+                        out["balance_verdicts"].get<int>(), 100 * vo->tol,
+                        out["balance_false_steady"].get<int>(),
+                        out["balance_earlier_than_windows"].get<int>());
             return 0;
         };
     });

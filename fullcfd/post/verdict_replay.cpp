@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "post/verdict_replay.hpp"
 
+#include <cmath>
+
 #include "common/atomic_file.hpp"
 #include "post/mixer_results.hpp"
 #include "run/foam_runner.hpp"
@@ -59,6 +61,30 @@ nlohmann::json replayVerdicts(const fs::path& caseDir, double tol, double flowTo
             {"final_loading_kg", final},
             {"windows", windows},
             {"balance", balance}};
+}
+
+nlohmann::json replayAll(const std::vector<std::string>& runDirs, double tol, double flowTol,
+                         double residence) {
+    nlohmann::json rows = nlohmann::json::array();
+    int called = 0, falseSteady = 0, earlier = 0;
+    for (const auto& d : runDirs) {
+        auto r = replayVerdicts(d, tol, flowTol, residence);
+        const double final = r["final_loading_kg"].get<double>();
+        for (const char* k : {"windows", "balance"})
+            if (!r[k].is_null()) r[k]["error_vs_final"] = r[k]["loading_kg"].get<double>() / final - 1;
+        if (!r["balance"].is_null()) {
+            ++called;
+            if (std::abs(r["balance"]["error_vs_final"].get<double>()) > tol) ++falseSteady;
+            if (!r["windows"].is_null() &&
+                r["balance"]["time_s"].get<double>() < r["windows"]["time_s"].get<double>())
+                ++earlier;
+        }
+        rows.push_back(r);
+    }
+    return {{"runs", rows},
+            {"balance_verdicts", called},
+            {"balance_false_steady", falseSteady},
+            {"balance_earlier_than_windows", earlier}};
 }
 
 }  // namespace mixload::post

@@ -5,6 +5,8 @@
 // point").
 #pragma once
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -16,5 +18,11 @@ namespace mixload::post {
 // test's share of the residence time M/feed (0.5 as runs use it).
 nlohmann::json replayVerdicts(const std::filesystem::path& caseDir, double tol, double flowTol,
                               double residence = 0.5);
+
+// Replays every run and adds, per test, the verdict's error against the final loading, and the
+// counts: balance verdicts, false steadies (error above tol), balance verdicts earlier than the
+// window test's.
+nlohmann::json replayAll(const std::vector<std::string>& runDirs, double tol, double flowTol,
+                         double residence);
 
 }  // namespace mixload::post
