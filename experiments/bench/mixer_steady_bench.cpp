@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "common/input_error.hpp"
+#include "common/stats.hpp"
 #include "run/mixer_job.hpp"
 
 namespace mixload::experiments {
@@ -14,13 +15,6 @@ namespace mixload::experiments {
 namespace fs = std::filesystem;
 
 namespace {
-
-double median(std::vector<double> v) {
-    if (v.empty()) return std::nan("");
-    std::sort(v.begin(), v.end());
-    const size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 std::string pointName(const std::pair<double, double>& p) {
     return formatNumber(p.first) + " rpm, " + formatNumber(p.second) + " kg/h";

@@ -12,6 +12,7 @@
 #include "cases/mixer3d.hpp"
 #include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
+#include "common/stats.hpp"
 #include "post/monitor_history.hpp"
 #include "run/foam_runner.hpp"
 
@@ -20,13 +21,6 @@ namespace mixload::post {
 namespace fs = std::filesystem;
 
 namespace {
-
-double median(std::vector<double> v) {
-    if (v.empty()) return std::nan("");
-    std::sort(v.begin(), v.end());
-    const size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 double mean(const std::vector<double>& v) {
     if (v.empty()) return std::nan("");
