@@ -295,20 +295,6 @@ int exportCsv(const CampaignCmd& o) {
     return 0;
 }
 
-// What a campaign keeps of a finished run (the full record stays in its run directory).
-nlohmann::json qoisOf(const std::string& kind, const nlohmann::json& r) {
-    const std::vector<const char*> keys =
-        kind == "mixer" ? std::vector<const char*>{"loading_kg", "loading_std_kg", "steady", "steady_time_s",
-                                                   "outflow_kg_h", "powder_leak_kg_h", "powder_balance_ok",
-                                                   "final_loading_kg", "end_time_s", "cells"}
-                        : std::vector<const char*>{"runout_star", "height_star", "stopped_by", "t_star",
-                                                   "end_time", "powder_mass_error", "cells"};
-    nlohmann::json q = nlohmann::json::object();
-    for (const char* k : keys)
-        if (r.contains(k)) q[k] = r[k];
-    return q;
-}
-
 // One design point in its own directory <home>/runs/<index>-<scene hash>. A second attempt runs
 // with half the Courant limit: the usual cure for a diverged run.
 template <class Job, class Scene, class Run>
@@ -379,7 +365,7 @@ int runCampaign(const CampaignCmd& o) {
                                                   o.snapshots, home, r->index, deadline, run::runMixer)
                         : runPoint<run::CollapseJob>(collapseSceneFor(c.sceneJson, r->params), retry,
                                                      o.np, o.snapshots, home, r->index, deadline, run::runCollapse);
-                l.markDone(r->id, qoisOf(c.scene, res), res.value("wall_seconds", 0.0),
+                l.markDone(r->id, experiments::runQois(c.scene, res), res.value("wall_seconds", 0.0),
                            res.value("core_seconds", res.value("wall_seconds", 0.0) * o.np),
                            res.value("run_dir", std::string()));
             } catch (const DeadlineReached&) {

@@ -15,6 +15,7 @@ void addBench(CLI::App& app, Action& action);
 void addBenchPredict(CLI::App* bench, Action& action);
 void addStudy(CLI::App& app, Action& action);
 void addCampaign(CLI::App& app, Action& action);
+void addCalibrate(CLI::App& app, Action& action);
 void addMixer(CLI::App& app, Action& action);
 void addSnapshots(CLI::App& app, Action& action);
 void addSurrogate(CLI::App& app, Action& action);  // also `check`

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
     mixload::app::addBench(app, action);
     mixload::app::addStudy(app, action);
     mixload::app::addCampaign(app, action);
+    mixload::app::addCalibrate(app, action);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -8,6 +8,9 @@ namespace mixload::app {
 void MixerOptions::add(CLI::App* cmd, bool withMethod) {
     cmd->add_option("--scene", scene, "Scene: gcm250 (shipped) or a scene .toml file")
         ->capture_default_str();
+    cmd->add_option("--set", sets,
+                    "Set a numeric key of the scene file, TABLE.KEY=VALUE (e.g. "
+                    "weir.chord_angle_deg=70, powder.eta_max_h_m=0.01); repeatable");
     if (withMethod)
         cmd->add_option("--method", method,
                         "mrf (frozen rotor, transient) | lts (MRF + local time stepping, "
@@ -60,8 +63,11 @@ void MixerOptions::add(CLI::App* cmd, bool withMethod) {
         ->group("Numerics");
 }
 
-scene::MixerScene MixerOptions::build() const {
-    scene::MixerScene s = scene::loadMixerScene(scene);
+scene::MixerScene MixerOptions::build(const scene::SceneKeys& keys) const {
+    scene::SceneKeys all;
+    for (const auto& a : sets) scene::parseSceneKey(a, all);
+    for (const auto& [k, v] : keys) all[k] = v;
+    scene::MixerScene s = scene::loadMixerScene(scene, all);
     if (method) s.method = *method;
     if (mesh) s.setMesh(*mesh);
     if (cellSize) {

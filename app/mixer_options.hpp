@@ -3,6 +3,7 @@
 #pragma once
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -16,11 +17,13 @@ struct MixerOptions {
     std::optional<double> rpm, feedKgH, muS, muD, I0, d, rho, initialLoadingKg, endTime, cellSize,
         etaMax, window, residence, tol, flowTol, minTime, airViscosity, courantAlphaMin, maxDeltaT;
     std::optional<int> ltsIterations, nonOrthCorrectors, alphaSubCycles;
+    std::vector<std::string> sets;  // --set TABLE.KEY=VALUE, applied to the scene file
 
     void add(CLI::App* cmd, bool withMethod = true);
     // Loads the scene file, applies the flags, validates: throws InputError before anything is
     // written.
-    scene::MixerScene build() const;
+    // `keys` are set on top of --set (a calibration's parameters).
+    scene::MixerScene build(const scene::SceneKeys& keys = {}) const;
 };
 
 }  // namespace mixload::app

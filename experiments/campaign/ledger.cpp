@@ -102,6 +102,19 @@ LedgerRun readRun(const Stmt& s) {
 
 }  // namespace
 
+nlohmann::json runQois(const std::string& kind, const nlohmann::json& r) {
+    const std::vector<const char*> keys =
+        kind == "mixer" ? std::vector<const char*>{"loading_kg", "loading_std_kg", "steady", "steady_time_s",
+                                                   "outflow_kg_h", "powder_leak_kg_h", "powder_balance_ok",
+                                                   "final_loading_kg", "end_time_s", "cells"}
+                        : std::vector<const char*>{"runout_star", "height_star", "stopped_by", "t_star",
+                                                   "end_time", "powder_mass_error", "cells"};
+    nlohmann::json q = nlohmann::json::object();
+    for (const char* k : keys)
+        if (r.contains(k)) q[k] = r[k];
+    return q;
+}
+
 Ledger::Ledger(const std::filesystem::path& file) {
     if (!file.parent_path().empty()) std::filesystem::create_directories(file.parent_path());
     if (sqlite3_open(file.c_str(), &db_) != SQLITE_OK) {

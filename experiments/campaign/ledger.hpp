@@ -34,6 +34,10 @@ struct LedgerRun {
     std::string runDir, error, started, finished;
 };
 
+// What a ledger keeps of a finished run's record (the full record stays in its run directory);
+// kind: mixer | collapse.
+nlohmann::json runQois(const std::string& kind, const nlohmann::json& result);
+
 class Ledger {
 public:
     // Opens (creating if needed) the ledger file; throws std::runtime_error on SQLite errors.

@@ -129,6 +129,7 @@ void MixerScene::validate() const {
         throw InputError("non-orth-correctors", std::to_string(numerics.nonOrthCorrectors),
                          "at least 1 on the snappy mesh (--numerics legacy or --non-orth-correctors 1)");
     if (etaMax) requirePositive("eta-max", *etaMax);
+    if (etaMaxH) requireRange("powder.eta_max_h_m", *etaMaxH, 1e-6, 100.0);
     requirePositive("p-min", pMin);
     requireRange("rpm", rpm, 0.0, 2000.0);  // 0: a resting bed (checks)
     requireRange("feed-kg-h", feedKgH, 0.0, 1000.0);
@@ -153,7 +154,8 @@ void MixerScene::validate() const {
 double MixerScene::omega() const { return rpm * 2.0 * kPi / 60.0; }
 
 double MixerScene::etaMaxValue() const {
-    return etaMax ? *etaMax : rheology::rauterEtaMax(material.grainDensity, gravity, geometry.bore);
+    return etaMax ? *etaMax
+                  : rheology::rauterEtaMax(material.grainDensity, gravity, etaMaxH.value_or(geometry.bore));
 }
 double MixerScene::muSCase() const {
     return convention == "paper" ? material.muS / std::sqrt(2.0) : material.muS;
@@ -284,7 +286,7 @@ private:
 
 }  // namespace
 
-MixerScene parseMixerScene(const std::string& text, const std::string& origin) {
+MixerScene parseMixerScene(const std::string& text, const std::string& origin, const SceneKeys& keys) {
     toml::table root;
     try {
         root = toml::parse(text, origin);
@@ -296,6 +298,15 @@ MixerScene parseMixerScene(const std::string& text, const std::string& origin) {
     }
     static const std::set<std::string> tables{"barrel", "impeller", "weir",    "inlet",
                                               "powder", "operation", "mesh",  "numerics"};
+    for (const auto& [key, value] : keys) {
+        const auto dot = key.find('.');
+        const std::string table = key.substr(0, dot);
+        if (dot == std::string::npos || !tables.count(table))
+            throw InputError("set", key, "TABLE.KEY with TABLE one of barrel, impeller, weir, inlet, powder, "
+                                         "operation, mesh, numerics");
+        if (!root.contains(table)) root.insert(table, toml::table{});
+        root[table].as_table()->insert_or_assign(key.substr(dot + 1), value);
+    }
     for (const auto& [k, v] : root)
         if (!tables.count(std::string(k.str())))
             throw InputError(origin + ": unknown table [" + std::string(k.str()) + "]");
@@ -326,6 +337,7 @@ MixerScene parseMixerScene(const std::string& text, const std::string& origin) {
     s.material = loadMaterial(powder.text("material", "avicel"));
     s.convention = powder.text("convention", s.convention);
     s.rheology = powder.text("rheology", s.rheology);
+    if (const double h = powder.number("eta_max_h_m", std::nan("")); !std::isnan(h)) s.etaMaxH = h;
     s.rpm = op.number("rpm", s.rpm);
     s.feedKgH = op.number("feed_kg_h", s.feedKgH);
     s.initialLoadingKg = op.number("initial_loading_kg", s.initialLoadingKg);
@@ -350,11 +362,22 @@ MixerScene parseMixerScene(const std::string& text, const std::string& origin) {
     return s;
 }
 
-MixerScene loadMixerScene(const std::string& nameOrPath) {
+MixerScene loadMixerScene(const std::string& nameOrPath, const SceneKeys& keys) {
     std::filesystem::path p(nameOrPath);
     if (p.extension() != ".toml") p = dataDir() / "scenes" / (nameOrPath + ".toml");
     if (!std::filesystem::exists(p)) throw InputError("scene", nameOrPath, "gcm250 or a scene .toml file");
-    return parseMixerScene(readFile(p), p.string());
+    return parseMixerScene(readFile(p), p.string(), keys);
+}
+
+void parseSceneKey(const std::string& assignment, SceneKeys& keys) {
+    const auto eq = assignment.find('=');
+    const std::string key = assignment.substr(0, eq);
+    if (eq == std::string::npos || key.find('.') == std::string::npos)
+        throw InputError("set", assignment, "TABLE.KEY=NUMBER, e.g. weir.chord_angle_deg=70");
+    const std::string text = assignment.substr(eq + 1);
+    const auto v = parseNumber(text);
+    if (!v || !std::isfinite(*v)) throw InputError("set " + key, text, "a finite number");
+    keys[key] = *v;
 }
 
 double depositHeight(double volume, double R, double L) {

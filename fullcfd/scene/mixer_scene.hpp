@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 #include <array>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -73,7 +74,8 @@ struct MixerScene {
     Material material;             // grain-side values; bulk density = phi * rhoS
     std::string convention = "paper";
     std::string rheology = "muI";  // muI | muIRegularised | schaeffer
-    std::optional<double> etaMax;  // [Pa s]; default Rauter's with H = bore
+    std::optional<double> etaMax;  // [Pa s]; default Rauter's with H = etaMaxH
+    std::optional<double> etaMaxH; // [m] the flow depth H in Rauter's cap; default the bore
     double pMin = 1.0;             // [Pa]
     double rpm = 39, feedKgH = 5, initialLoadingKg = 0.3;
     std::string method = "mrf";    // mrf | lts | sm
@@ -118,10 +120,18 @@ struct MixerScene {
     std::string hash() const;
 };
 
+// Numeric keys of the scene file set from outside it ("weir.chord_angle_deg" -> 82), by
+// `mixer --set` and by calibrations. They are written into the file's table before it is parsed,
+// so they meet the same checks (unknown key, range, whole number) as the file's own values.
+using SceneKeys = std::map<std::string, double>;
+
 // Parses a mixer scene TOML (see data/scenes/gcm250.toml); origin names the file in errors.
-MixerScene parseMixerScene(const std::string& text, const std::string& origin);
+MixerScene parseMixerScene(const std::string& text, const std::string& origin,
+                           const SceneKeys& keys = {});
 // A shipped scene by name (data/scenes/<name>.toml) or a path to a .toml file.
-MixerScene loadMixerScene(const std::string& nameOrPath);
+MixerScene loadMixerScene(const std::string& nameOrPath, const SceneKeys& keys = {});
+// "table.key=value" -> keys (InputError naming the argument if it is not of that form).
+void parseSceneKey(const std::string& assignment, SceneKeys& keys);
 
 // Height (z, relative to the axis) of a flat powder surface that holds the given volume in an
 // empty bore of radius R and length L (circular segment).

@@ -145,3 +145,41 @@ TEST(MixerGeometry, PaddleBoxesHaveTheirArea) {
     const double one = 2 * (l * g.paddleWidth + l * g.paddleThickness + g.paddleWidth * g.paddleThickness);
     EXPECT_NEAR(p.area("paddles"), g.paddleCount * one, 1e-9);
 }
+
+TEST(MixerScene, KeysSetFromOutsideMeetTheFilesChecks) {
+    const auto base = scene::loadMixerScene("gcm250");
+    const auto s = scene::loadMixerScene("gcm250", {{"weir.chord_angle_deg", 70}, {"impeller.paddle_count", 6}});
+    EXPECT_DOUBLE_EQ(s.geometry.weirChordDeg, 70.0);
+    EXPECT_EQ(s.geometry.paddleCount, 6);
+    EXPECT_NE(s.hash(), base.hash());
+    // A table the file does not have is created.
+    EXPECT_DOUBLE_EQ(parse("").geometry.weirChordDeg, 20.0);
+    EXPECT_DOUBLE_EQ(scene::parseMixerScene("", "t.toml", {{"weir.chord_angle_deg", 45}}).geometry.weirChordDeg, 45.0);
+    const auto refused = [](const scene::SceneKeys& k, const std::string& needle) {
+        try {
+            scene::loadMixerScene("gcm250", k);
+            ADD_FAILURE() << needle;
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+        }
+    };
+    refused({{"weir.chord", 45}}, "weir.chord");
+    refused({{"weir.chord_angle_deg", 95}}, "weir.chord_angle_deg");
+    refused({{"impeller.paddle_count", 2.5}}, "whole number");
+    refused({{"chord_angle_deg", 45}}, "TABLE.KEY");
+    refused({{"nosuch.key", 45}}, "TABLE.KEY");
+    scene::SceneKeys k;
+    scene::parseSceneKey("weir.chord_angle_deg=70", k);
+    EXPECT_DOUBLE_EQ(k.at("weir.chord_angle_deg"), 70.0);
+    EXPECT_THROW(scene::parseSceneKey("weir.chord_angle_deg=7O", k), InputError);
+    EXPECT_THROW(scene::parseSceneKey("weir.chord_angle_deg", k), InputError);
+}
+
+TEST(MixerScene, TheViscosityCapsDepthIsAKeyOfTheScene) {
+    const auto base = scene::loadMixerScene("gcm250");
+    const auto s = scene::loadMixerScene("gcm250", {{"powder.eta_max_h_m", 1.0}});
+    // Rauter's cap grows as H^3/2: ten bores, about 31.6 times the cap.
+    EXPECT_NEAR(s.etaMaxValue() / base.etaMaxValue(), std::pow(10.0, 1.5), 1e-9);
+    EXPECT_NE(s.hash(), base.hash());
+    EXPECT_THROW(scene::loadMixerScene("gcm250", {{"powder.eta_max_h_m", -1}}), InputError);
+}

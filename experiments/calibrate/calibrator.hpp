@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Bounded, derivative-free least-squares fit of a few parameters to targets (NLopt), for models
+// whose every evaluation is expensive (a full run): it stops as soon as every target is well inside
+// its band, and it is deterministic, so a driver that caches its evaluations can resume by simply
+// running it again.
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace mixload::experiments {
+
+struct CalibrationBound {
+    std::string key;
+    double lo = 0, hi = 1;
+    double start = 0.5;  // first point, inside [lo, hi]
+};
+
+struct CalibrationOptions {
+    int maxEvals = 12;
+    // Stop once the root mean square of the scaled residuals is at most this (1 = the edge of the
+    // targets' bands).
+    double stopRms = 0.25;
+    // Stop once a step moves every parameter by less than this share of its range.
+    double xtolShare = 0.005;
+};
+
+struct CalibrationTrace {
+    std::vector<std::vector<double>> x;  // parameters of each evaluation, in physical units
+    std::vector<std::vector<double>> r;  // scaled residuals of each evaluation
+    std::vector<double> rms;
+    size_t best = 0;
+    std::string stop;  // within-stop-rms | xtol | max-evals | ...
+};
+
+// residuals(x) returns, per target, (value - target) / (tolerance * target). Exceptions thrown by
+// it end the fit and propagate (after the trace so far is handed to onEval).
+using ResidualFn = std::function<std::vector<double>(const std::vector<double>&)>;
+CalibrationTrace calibrate(const std::vector<CalibrationBound>& bounds, const ResidualFn& residuals,
+                           const CalibrationOptions& opt,
+                           const std::function<void(const CalibrationTrace&)>& onEval = {});
+
+}  // namespace mixload::experiments

@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// `mixload calibrate mixer`: fits scene-file keys (geometry, the viscosity cap's H, ...) to
+// measured loadings at one or more operating points. Every evaluation is a full run recorded in a
+// SQLite ledger (<dir>/<name>/ledger.sqlite, the campaign ledger), so an interrupted calibration
+// resumes: the fit is deterministic and replays its path from the ledger, runs no finished run
+// again, and continues an unfinished one from its last written time.
+#pragma once
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "calibrate/calibrator.hpp"
+#include "scene/mixer_scene.hpp"
+
+namespace mixload::experiments {
+
+struct LoadingTarget {
+    double rpm = 39, feedKgH = 5;
+    double loadingKg = 0.311;
+    double tol = 0.12;  // relative half-width of the acceptance band
+};
+
+struct MixerCalibration {
+    std::string name;
+    std::filesystem::path dir = "calibrations";
+    std::vector<CalibrationBound> params;  // keys of the scene file, e.g. weir.chord_angle_deg
+    std::vector<LoadingTarget> targets;
+    // The scene of one evaluation: the base scene with these keys set, validated (throws
+    // InputError otherwise). The targets then set rpm and feed.
+    std::function<scene::MixerScene(const scene::SceneKeys&)> sceneFor;
+    CalibrationOptions fit;
+    bool allowUnsteady = false;  // count a run that hit its end time without a steady verdict
+    int np = 1;
+    double maxHours = 0;         // 0: no limit; else stop (resumably) after this long
+    bool progress = false;
+};
+
+// Everything that can be refused before a run: names, bounds (both ends and the start must give a
+// valid scene), targets. Throws InputError.
+void validateCalibration(const MixerCalibration& c);
+
+// Runs (or resumes) the calibration; writes <dir>/<name>/report/ (calibration.csv, .md, .png,
+// .json) after every evaluation and returns the report's JSON. status: within-band |
+// outside-band | stopped-at-max-hours.
+nlohmann::json runMixerCalibration(const MixerCalibration& c);
+
+// "weir.chord_angle_deg=20:88[:55]" and "39:5:0.311[:0.12]" (rpm:feed:loading[:tol]).
+CalibrationBound parseCalibrationParam(const std::string& text);
+LoadingTarget parseLoadingTarget(const std::string& text);
+
+}  // namespace mixload::experiments

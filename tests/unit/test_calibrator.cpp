@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The calibration fit on cheap analytic responses: it reaches the band in a few evaluations, stops
+// there, stays inside the bounds, reports a target it cannot reach, and is deterministic (the
+// property the mixer calibration's resume rests on).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "calibrate/calibrator.hpp"
+
+using namespace mixload::experiments;
+
+namespace {
+// A dam-like response: loading rises steeply with the weir angle (as the probes showed).
+double loading(double deg) { return 0.03 + 0.30 * std::pow((deg - 20) / 70.0, 2.5); }
+std::vector<double> residual(double m, double target, double tol) { return {(m - target) / (tol * target)}; }
+}  // namespace
+
+TEST(Calibrator, OneParameterReachesTheBandInAFewEvaluations) {
+    const std::vector<CalibrationBound> b{{"weir.chord_angle_deg", 20, 89, 55}};
+    const auto t = calibrate(
+        b, [](const std::vector<double>& x) { return residual(loading(x[0]), 0.25, 0.12); }, {});
+    EXPECT_EQ(t.stop, "within-stop-rms");
+    EXPECT_LE(t.x.size(), 10u);
+    EXPECT_LE(std::abs(t.r[t.best][0]), 0.25);
+    for (const auto& x : t.x) {
+        EXPECT_GE(x[0], 20);
+        EXPECT_LE(x[0], 89);
+    }
+}
+
+TEST(Calibrator, TwoTargetsTwoParameters) {
+    // M = a * feed / rpm + b: two operating points fix both.
+    const std::vector<CalibrationBound> b{{"a", 0.5, 20, 5}, {"b", 0.0, 0.5, 0.1}};
+    const auto t = calibrate(
+        b,
+        [](const std::vector<double>& x) {
+            const double m1 = x[0] * 5 / 39 + x[1], m2 = x[0] * 45 / 254 + x[1];
+            return std::vector<double>{(m1 - 0.311) / (0.05 * 0.311), (m2 - 0.35) / (0.05 * 0.35)};
+        },
+        {.maxEvals = 30});
+    EXPECT_EQ(t.stop, "within-stop-rms");
+    EXPECT_LE(t.rms[t.best], 0.25);
+}
+
+TEST(Calibrator, AnUnreachableTargetEndsAtTheBoundWithItsResidual) {
+    const std::vector<CalibrationBound> b{{"weir.chord_angle_deg", 20, 89, 55}};
+    const auto t = calibrate(
+        b, [](const std::vector<double>& x) { return residual(loading(x[0]), 1.0, 0.12); },
+        {.maxEvals = 8});
+    EXPECT_NE(t.stop, "within-stop-rms");
+    EXPECT_NEAR(t.x[t.best][0], 89, 1.0);
+    EXPECT_LT(t.r[t.best][0], -1);  // still below the band: the report says by how much
+}
+
+TEST(Calibrator, IsDeterministicAndPassesErrorsOn) {
+    const std::vector<CalibrationBound> b{{"k", 20, 89, 55}};
+    const auto f = [](const std::vector<double>& x) { return residual(loading(x[0]), 0.2, 0.12); };
+    const auto t1 = calibrate(b, f, {}), t2 = calibrate(b, f, {});
+    EXPECT_EQ(t1.x, t2.x);
+    int calls = 0;
+    size_t seen = 0;
+    EXPECT_THROW(calibrate(
+                     b,
+                     [&](const std::vector<double>& x) {
+                         if (++calls == 2) throw std::runtime_error("run failed");
+                         return f(x);
+                     },
+                     {}, [&](const CalibrationTrace& t) { seen = t.x.size(); }),
+                 std::runtime_error);
+    EXPECT_EQ(seen, 1u);
+}
