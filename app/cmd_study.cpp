@@ -10,6 +10,7 @@
 #include "common/input_error.hpp"
 #include "studies/collapse_study.hpp"
 #include "post/verdict_replay.hpp"
+#include "studies/formulation_study.hpp"
 #include "studies/mixer_study.hpp"
 
 namespace mixload::app {
@@ -44,6 +45,15 @@ struct MixerStudyCmd {
     std::string runs;
     int jobs = 1;
     int np = 1;
+    bool json = false;
+};
+struct FormulationCmd {
+    MixerOptions base;
+    std::string preset;
+    std::vector<std::string> variants;
+    std::string out = "runs/studies/formulation";
+    std::string runs;
+    int jobs = 1, np = 1;
     bool json = false;
 };
 }  // namespace
@@ -206,6 +216,46 @@ void addStudy(CLI::App& app, Action& action) {
                         out["balance_false_steady"].get<int>(),
                         out["balance_earlier_than_windows"].get<int>());
             return 0;
+        };
+    });
+
+    auto* fm = study->add_subcommand(
+        "formulation",
+        "Formulation changes against a reference as full runs, each compared with the paper (its "
+        "what-ifs and the signs of its Fig. 7): table + PNG, pass or fail with the number");
+    auto fo = std::make_shared<FormulationCmd>();
+    fo->base.add(fm);
+    fm->add_option("--preset", fo->preset,
+                   "paper-whatifs | fig7-signs | all (default when no --variant is given)");
+    fm->add_option("--variant", fo->variants,
+                   "NAME:KEY=FACTOR[,KEY=FACTOR...], KEY one of mu_s, mu_d, i0, d, rho (bulk density); "
+                   "repeatable");
+    fm->add_option("--out", fo->out, "Study directory (runs are kept, resumed and reused)")->capture_default_str();
+    fm->add_option("--runs", fo->runs, "Run store shared between studies (default <out>/runs)");
+    fm->add_option("--jobs", fo->jobs, "Concurrent runs")->capture_default_str();
+    fm->add_option("--np", fo->np, "MPI ranks per run")->capture_default_str();
+    fm->add_flag("--json", fo->json, "Print JSON");
+    fm->callback([&action, fo] {
+        action = [fo] {
+            requireRange("jobs", fo->jobs, 1, 64);
+            requireRange("np", fo->np, 1, 256);
+            experiments::FormulationStudy st;
+            st.reference = fo->base.build();
+            if (!fo->preset.empty() || fo->variants.empty())
+                st.variants = experiments::formulationPreset(fo->preset.empty() ? "all" : fo->preset);
+            for (const auto& v : fo->variants) st.variants.push_back(experiments::parseFormulationVariant(v));
+            for (const auto& v : st.variants) experiments::applyVariant(st.reference, v);  // refuse before any run
+            st.out = fo->out;
+            st.runs = fo->runs;
+            st.jobs = fo->jobs;
+            st.np = fo->np;
+            st.progress = !fo->json;
+            const auto r = experiments::runFormulationStudy(st);
+            if (fo->json) std::cout << r.dump(2) << '\n';
+            else std::cout << readFile(r["table_md"].get<std::string>()) << "plot: " << r["plot"].get<std::string>() << '\n';
+            for (const auto& row : r["rows"])
+                if (row.contains("error")) return 1;
+            return r["reference"].contains("error") ? 1 : 0;
         };
     });
 }

@@ -104,6 +104,33 @@ std::string cell(const nlohmann::json& v, const char* fmt) {
 
 }  // namespace
 
+std::vector<nlohmann::json> runMixerScenes(const std::vector<scene::MixerScene>& scenes, const fs::path& runs,
+                                           int jobs, int np, bool progress, const std::string& label) {
+    fs::create_directories(runs);
+    std::vector<nlohmann::json> out(scenes.size());
+    runPool<nlohmann::json>(
+        scenes.size(), jobs, label, progress,
+        [&](size_t i) {
+            run::MixerJob job;
+            job.scene = scenes[i];
+            job.np = np;
+            job.out = runs / scenes[i].hash();
+            try {
+                return run::runMixer(job);
+            } catch (const run::RunError& e) {
+                return nlohmann::json{{"error", e.what()}};
+            }
+        },
+        [&](size_t i, const nlohmann::json& r) {
+            for (const char* k : {"loading_kg", "loading_std_kg", "steady", "steady_time_s", "outflow_kg_h",
+                                  "powder_leak_kg_h", "powder_balance_ok", "rotor_zone_loading_kg",
+                                  "dense_loading_kg", "warning", "end_time_s", "cells", "wall_seconds",
+                                  "core_seconds", "error", "run_dir", "history"})
+                if (r.contains(k)) out[i][k] = r[k];
+        });
+    return out;
+}
+
 nlohmann::json runMixerStudy(const MixerStudy& study) {
     const fs::path runs = study.runs.empty() ? study.out / "runs" : study.runs;
     fs::create_directories(runs);
@@ -118,28 +145,12 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
                         {"scene_hash", s.hash()}});
     std::vector<nlohmann::json> histories(study.scenes.size());
 
-    runPool<nlohmann::json>(
-        study.scenes.size(), study.jobs, "mixer study", study.progress,
-        [&](size_t i) {
-            run::MixerJob job;
-            job.scene = study.scenes[i];
-            job.np = study.np;
-            job.out = runs / study.scenes[i].hash();
-            try {
-                return run::runMixer(job);
-            } catch (const run::RunError& e) {
-                return nlohmann::json{{"error", e.what()}};
-            }
-        },
-        [&](size_t i, const nlohmann::json& r) {
-            for (const char* k : {"loading_kg", "loading_std_kg", "steady", "steady_time_s",
-                                  "outflow_kg_h", "powder_leak_kg_h", "powder_balance_ok",
-                                  "rotor_zone_loading_kg", "dense_loading_kg", "warning",
-                                  "end_time_s", "cells", "wall_seconds", "core_seconds", "error",
-                                  "run_dir"})
-                if (r.contains(k)) rows[i][k] = r[k];
-            if (r.contains("history")) histories[i] = r["history"];
-        });
+    const auto results = runMixerScenes(study.scenes, runs, study.jobs, study.np, study.progress, "mixer study");
+    for (size_t i = 0; i < results.size(); ++i) {
+        for (auto it = results[i].begin(); it != results[i].end(); ++it)
+            if (it.key() != "history") rows[i][it.key()] = it.value();
+        if (results[i].contains("history")) histories[i] = results[i]["history"];
+    }
 
     std::ostringstream csv, md;
     csv << "method,mesh,cells,rpm,feed_kg_h,initial_loading_kg,loading_kg,loading_std_kg,steady,steady_time_s,"

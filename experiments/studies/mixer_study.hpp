@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -20,6 +21,13 @@ struct MixerStudy {
     int np = 1;  // MPI ranks per run
     bool progress = false;
 };
+
+// Runs (or resumes, or reuses) each scene in <runs>/<scene hash> on `jobs` threads and returns what
+// a study keeps of each result (loading, steady verdict, balance, costs, run_dir, history), or
+// {"error": ...} for a run that failed.
+std::vector<nlohmann::json> runMixerScenes(const std::vector<scene::MixerScene>& scenes,
+                                           const std::filesystem::path& runs, int jobs, int np, bool progress,
+                                           const std::string& label);
 
 // Runs the study and writes <out>/table.csv, <out>/table.md and <out>/study.png (M against feed
 // and against rpm). Returns the rows.

@@ -1,0 +1,193 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "studies/formulation_study.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "common/atomic_file.hpp"
+#include "common/gnuplot.hpp"
+#include "common/input_error.hpp"
+#include "studies/mixer_study.hpp"
+
+namespace mixload::experiments {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* kKeys[] = {"mu_s", "mu_d", "i0", "d", "rho"};
+
+bool knownKey(const std::string& k) {
+    for (const char* n : kKeys)
+        if (k == n) return true;
+    return false;
+}
+
+std::string pct(double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%+.1f%%", 100 * v);
+    return b;
+}
+
+std::string describe(const FormulationVariant& v) {
+    std::ostringstream os;
+    bool first = true;
+    for (const auto& [k, f] : v.factors) {
+        os << (first ? "" : ", ") << k << " " << pct(f - 1);
+        first = false;
+    }
+    return os.str();
+}
+
+}  // namespace
+
+std::vector<FormulationVariant> formulationPreset(const std::string& name) {
+    std::vector<FormulationVariant> out;
+    if (name == "paper-whatifs" || name == "all") {
+        // Biroun et al. (2023), Fig. 8: +50% bulk density with -10% and with -32% mu_s.
+        out.push_back({"whatif-rho+50-mus-10", {{"rho", 1.5}, {"mu_s", 0.9}}, 0.25, +1});
+        out.push_back({"whatif-rho+50-mus-32", {{"rho", 1.5}, {"mu_s", 0.68}}, -0.08, -1});
+    }
+    if (name == "fig7-signs" || name == "all") {
+        // Its Fig. 7: M rises with mu_s, mu_d, d and rho, falls with I0.
+        for (const char* k : kKeys) {
+            const int sign = std::string(k) == "i0" ? -1 : +1;
+            out.push_back({std::string(k) + "-20", {{k, 0.8}}, std::nullopt, -sign});
+            out.push_back({std::string(k) + "+20", {{k, 1.2}}, std::nullopt, sign});
+        }
+    }
+    if (out.empty()) throw InputError("preset", name, "paper-whatifs | fig7-signs | all");
+    return out;
+}
+
+FormulationVariant parseFormulationVariant(const std::string& text) {
+    const auto colon = text.find(':');
+    if (colon == std::string::npos || colon == 0)
+        throw InputError("variant", text, "NAME:KEY=FACTOR[,KEY=FACTOR...] with KEY mu_s|mu_d|i0|d|rho");
+    FormulationVariant v;
+    v.name = text.substr(0, colon);
+    std::stringstream ss(text.substr(colon + 1));
+    for (std::string item; std::getline(ss, item, ',');) {
+        const auto eq = item.find('=');
+        const std::string key = item.substr(0, eq);
+        const auto f = eq == std::string::npos ? std::nullopt : parseNumber(item.substr(eq + 1));
+        if (!knownKey(key)) throw InputError("variant " + v.name, key, "mu_s | mu_d | i0 | d | rho");
+        if (!f || !(*f > 0) || !std::isfinite(*f))
+            throw InputError("variant " + v.name + " " + key, item, "a factor > 0, e.g. rho=1.5");
+        v.factors[key] = *f;
+    }
+    if (v.factors.empty()) throw InputError("variant", text, "at least one KEY=FACTOR");
+    return v;
+}
+
+scene::MixerScene applyVariant(scene::MixerScene s, const FormulationVariant& v) {
+    auto& m = s.material;
+    for (const auto& [k, f] : v.factors) {
+        if (k == "mu_s") m.muS *= f;
+        else if (k == "mu_d") m.muD *= f;
+        else if (k == "i0") m.I0 *= f;
+        else if (k == "d") m.grainDiameter *= f;
+        else if (k == "rho") m.grainDensity *= f;  // the bulk density follows (phi fixed)
+    }
+    m.name += "-" + v.name;
+    try {
+        s.validate();
+    } catch (const InputError& e) {
+        throw InputError("variant " + v.name + " (" + describe(v) + "): " + e.what());
+    }
+    return s;
+}
+
+nlohmann::json runFormulationStudy(const FormulationStudy& study) {
+    // Every scene is valid before the first run starts.
+    std::vector<scene::MixerScene> scenes{study.reference};
+    for (const auto& v : study.variants) scenes.push_back(applyVariant(study.reference, v));
+    fs::create_directories(study.out);
+    const auto results = runMixerScenes(scenes, study.runs.empty() ? study.out / "runs" : study.runs, study.jobs,
+                                        study.np, study.progress, "formulation study");
+    const auto& ref = results[0];
+    const bool refOk = ref.contains("loading_kg") && ref.value("steady", false);
+    const double m0 = ref.value("loading_kg", NAN);
+    // A change smaller than the steady test's tolerance (either run's) cannot carry a sign.
+    const double noise = 2 * study.reference.steadyTol;
+    nlohmann::json rows = nlohmann::json::array();
+    std::ostringstream md, csv, dat;
+    md << "Reference: " << study.reference.material.name << ", " << study.reference.rpm << " rpm, "
+       << study.reference.feedKgH << " kg/h, scene " << study.reference.name << " (" << study.reference.hash()
+       << "): M = " << (ref.contains("loading_kg") ? std::to_string(m0) : std::string("failed")) << " kg"
+       << (refOk ? "" : " (NOT steady: no verdicts)") << "\n\n"
+       << "| variant | change | M [kg] | dM model | dM paper | verdict |\n|---|---|---|---|---|---|\n";
+    csv << "variant,change,loading_kg,steady,change_model,change_paper,sign_paper,verdict,run_dir\n";
+    int pass = 0, fail = 0, open = 0;
+    for (size_t i = 0; i < study.variants.size(); ++i) {
+        const auto& v = study.variants[i];
+        const auto& r = results[i + 1];
+        nlohmann::json row{{"variant", v.name}, {"change", describe(v)}, {"factors", v.factors}};
+        for (auto it = r.begin(); it != r.end(); ++it)
+            if (it.key() != "history") row[it.key()] = it.value();
+        std::string verdict;
+        double dm = NAN;
+        if (!r.contains("loading_kg")) verdict = "run failed";
+        else if (!r.value("steady", false) || !refOk) verdict = "open: not steady";
+        else {
+            dm = r["loading_kg"].get<double>() / m0 - 1;
+            row["change_model"] = dm;
+            const int expected = v.paperChange ? (*v.paperChange > 0 ? 1 : -1) : v.paperSign;
+            if (expected == 0) verdict = "no expectation";
+            else if (std::abs(dm) <= noise) verdict = "fail: no change beyond the steady tolerance";
+            else if ((dm > 0 ? 1 : -1) != expected) verdict = "fail: opposite sign";
+            else if (v.paperChange && std::abs((1 + dm) / (1 + *v.paperChange) - 1) > 0.12)
+                verdict = "fail: right sign, off by more than the paper's 12% band";
+            else verdict = "pass";
+        }
+        if (verdict == "pass") ++pass;
+        else if (verdict.rfind("fail", 0) == 0) ++fail;
+        else ++open;
+        row["verdict"] = verdict;
+        if (v.paperChange) row["change_paper"] = *v.paperChange;
+        row["sign_paper"] = v.paperChange ? (*v.paperChange > 0 ? 1 : -1) : v.paperSign;
+        const std::string paper = v.paperChange ? pct(*v.paperChange)
+                                  : v.paperSign > 0 ? "rises" : v.paperSign < 0 ? "falls" : "-";
+        md << "| " << v.name << " | " << describe(v) << " | "
+           << (r.contains("loading_kg") ? std::to_string(r["loading_kg"].get<double>()) : "-")
+           << (r.value("steady", false) ? "" : " (not steady)") << " | " << (std::isnan(dm) ? "-" : pct(dm)) << " | "
+           << paper << " | " << verdict << " |\n";
+        csv << v.name << ",\"" << describe(v) << "\"," << r.value("loading_kg", NAN) << ','
+            << (r.value("steady", false) ? "yes" : "no") << ',' << dm << ','
+            << (v.paperChange ? std::to_string(*v.paperChange) : "") << ',' << row["sign_paper"] << ",\"" << verdict
+            << "\"," << r.value("run_dir", std::string()) << '\n';
+        // Bar chart data: the paper's number where it gives one, else its sign as +-5%.
+        dat << i << " \"" << v.name << "\" " << (std::isnan(dm) ? 0.0 : 100 * dm) << ' '
+            << (v.paperChange ? 100 * *v.paperChange : 5.0 * row["sign_paper"].get<int>()) << '\n';
+        rows.push_back(row);
+    }
+    md << "\n" << pass << " pass, " << fail << " fail, " << open
+       << " open. A change within twice the steady tolerance (" << pct(noise).substr(1)
+       << ") carries no sign; a what-if passes when M_variant/M_reference is within the paper's 12% band of its "
+          "ratio. Where the paper gives only a trend (Fig. 7) the bar shows its sign as +-5%.\n";
+    writeFileAtomic(study.out / "formulation.dat", dat.str());
+    std::ostringstream gp;
+    gp << "set terminal pngcairo size 1100,520 noenhanced\nset output 'formulation.png'\n"
+       << "set style data histograms\nset style histogram clustered gap 1\nset style fill solid 0.8 border -1\n"
+       << "set xtics rotate by -35\nset ylabel 'change of M against the reference [%]'\nset grid ytics\n"
+       << "set title 'formulation changes: mixload (full runs) against the paper'\n"
+       << "plot 'formulation.dat' using 3:xtic(2) title 'mixload', '' using 4 title 'paper (trend only: sign)'\n";
+    const std::string warn = runGnuplot(study.out, "formulation.gp", gp.str());
+    writeFileAtomic(study.out / "table.md", md.str());
+    writeFileAtomic(study.out / "table.csv", csv.str());
+    nlohmann::json result{{"reference", {{"scene_hash", study.reference.hash()}}},
+                          {"rows", rows},
+                          {"pass", pass},
+                          {"fail", fail},
+                          {"open", open},
+                          {"table_md", (study.out / "table.md").string()},
+                          {"plot", warn.empty() ? (study.out / "formulation.png").string() : ""}};
+    for (auto it = ref.begin(); it != ref.end(); ++it)
+        if (it.key() != "history") result["reference"][it.key()] = it.value();
+    if (!warn.empty()) result["plot_warning"] = warn;
+    writeFileAtomic(study.out / "study.json", result.dump(2));
+    return result;
+}
+
+}  // namespace mixload::experiments

@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// `mixload study formulation`: how the loading answers changes of the powder, as full runs against
+// a reference, each change compared with what the paper reports for it (its two what-ifs and the
+// signs of its Fig. 7), pass or fail with the measured number.
+#pragma once
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "scene/mixer_scene.hpp"
+
+namespace mixload::experiments {
+
+// A change of the formulation: factors on mu_s, mu_d, i0, d, rho (bulk density; the grain density
+// follows), and what the paper found for it: a relative change of M (its what-ifs) or only a sign
+// (its Fig. 7 trends).
+struct FormulationVariant {
+    std::string name;
+    std::map<std::string, double> factors;
+    std::optional<double> paperChange;  // e.g. +0.25
+    int paperSign = 0;                  // +1 | -1 | 0 (no expectation)
+};
+
+// Named sets: paper-whatifs (the paper's two arrows on its Fig. 8), fig7-signs (each of mu_s,
+// mu_d, i0, d, rho at 0.8 and 1.2), all (both).
+std::vector<FormulationVariant> formulationPreset(const std::string& name);
+// "NAME:key=factor[,key=factor...]" (keys mu_s, mu_d, i0, d, rho). InputError otherwise.
+FormulationVariant parseFormulationVariant(const std::string& text);
+// The reference scene with the variant's factors applied, validated (InputError: mu_d <= mu_s...).
+scene::MixerScene applyVariant(scene::MixerScene s, const FormulationVariant& v);
+
+struct FormulationStudy {
+    scene::MixerScene reference;
+    std::vector<FormulationVariant> variants;
+    std::filesystem::path out;
+    std::filesystem::path runs;  // empty: <out>/runs
+    int jobs = 1, np = 1;
+    bool progress = false;
+};
+
+// Runs the reference and every variant (resumable, shared run store) and writes <out>/table.md,
+// table.csv, formulation.png (model against paper, relative change of M) and study.json.
+nlohmann::json runFormulationStudy(const FormulationStudy& study);
+
+}  // namespace mixload::experiments

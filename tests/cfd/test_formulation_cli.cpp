@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// `mixload study formulation` on tiny real runs: the reference and a variant run, the table and
+// the plot are written, a run without a steady verdict gets no pass or fail, and a variant the
+// scene refuses stops the study before any run.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_harness.hpp"
+
+using namespace mixload::testing;
+namespace fs = std::filesystem;
+
+TEST(FormulationStudy, RunsTheReferenceAndEachVariantAndJudgesOnlySteadyRuns) {
+    const fs::path out = scratchDir("formulation") / "study";
+    const auto r = runMixload({"study", "formulation", "--variant", "denser:rho=1.5,mu_s=0.9", "--cell-size", "0.01",
+                               "--end-time", "0.05", "--out", out.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["rows"].size(), 1u);
+    const auto& row = j["rows"][0];
+    EXPECT_EQ(row["verdict"], "open: not steady");
+    EXPECT_EQ(j["open"], 1);
+    // The variant's run has the changed powder; the deposit is the same mass in both.
+    const auto scene = [](const nlohmann::json& res) {
+        return nlohmann::json::parse(std::ifstream(fs::path(res["run_dir"].get<std::string>()) / "scene.json"))["scene"];
+    };
+    const auto s0 = scene(j["reference"]), s1 = scene(row);
+    EXPECT_NEAR(s1["material"]["bulk_density_kg_m3"].get<double>() / s0["material"]["bulk_density_kg_m3"].get<double>(), 1.5, 1e-12);
+    EXPECT_NEAR(s1["material"]["mu_s"].get<double>() / s0["material"]["mu_s"].get<double>(), 0.9, 1e-12);
+    EXPECT_NEAR(row["loading_kg"].get<double>(), j["reference"]["loading_kg"].get<double>(), 0.03);
+    for (const char* f : {"table.md", "table.csv", "formulation.png", "study.json"})
+        EXPECT_TRUE(fs::exists(out / f)) << f;
+    // Run again: both runs come from the run store.
+    const auto again = runMixload({"study", "formulation", "--variant", "denser:rho=1.5,mu_s=0.9", "--cell-size",
+                                   "0.01", "--end-time", "0.05", "--out", out.string(), "--json"});
+    ASSERT_EQ(again.rc, 0) << again.err;
+    EXPECT_EQ(nlohmann::json::parse(again.out)["rows"][0]["loading_kg"], row["loading_kg"]);
+}
+
+TEST(FormulationStudy, AVariantTheSceneRefusesStopsItBeforeAnyRun) {
+    const fs::path out = scratchDir("formulation-bad") / "study";
+    for (const auto& [variant, needle] : std::vector<std::pair<std::string, std::string>>{
+             {"weak:mu_d=0.5", "mu_d"}, {"x:rho=-1", "factor > 0"}, {"x:colour=2", "mu_s | mu_d"}, {"nocolon", "NAME:"}}) {
+        const auto r = runMixload({"study", "formulation", "--variant", variant, "--out", out.string()});
+        EXPECT_EQ(r.rc, 2) << variant << r.err;
+        EXPECT_NE(r.err.find(needle), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(out)) << variant;
+    }
+}
