@@ -34,7 +34,8 @@ nlohmann::json predictionJson(const surrogates::Surrogate& m, const Point& x, co
                      {"ci95_kg", std::isnan(p.lo) ? nlohmann::json() : nlohmann::json{p.lo, p.hi}},
                      {"in_training_box", p.inBox},
                      {"model", model},
-                     {"kind", m.kind()}};
+                     {"kind", m.kind()},
+                     {"source", m.sourceLabel()}};
     if (!p.inBox) j["outside"] = m.outsideBox(x);
     return j;
 }
@@ -88,7 +89,7 @@ int predict(const PredictCmd& o) {
     }
     std::cout << std::setprecision(4) << "M = " << p.m << " kg";
     if (!std::isnan(p.lo)) std::cout << " (95% interval " << p.lo << " .. " << p.hi << " kg)";
-    std::cout << "  [" << m.kind() << ", " << path << "]\n";
+    std::cout << "  [" << m.kind() << ", " << path << "]\n  model of " << m.sourceLabel() << '\n';
     return 0;
 }
 
@@ -188,7 +189,7 @@ int whatif(const WhatifCmd& o) {
     const std::string path = o.model.empty() ? defaultModelPath() : o.model;
     const auto m = surrogates::Surrogate::load(path);
     auto ws = m.makeWorkspace();
-    nlohmann::json out{{"model", path}, {"kind", m.kind()}, {"points", nlohmann::json::array()}};
+    nlohmann::json out{{"model", path}, {"kind", m.kind()}, {"source", m.sourceLabel()}, {"points", nlohmann::json::array()}};
     for (size_t k : kMaterial) {
         out["base"][kInputSpecs[k].name] = a[k];
         out["new"][kInputSpecs[k].name] = b[k];
@@ -229,7 +230,8 @@ int whatif(const WhatifCmd& o) {
         std::cout << out.dump(2) << '\n';
         return 0;
     }
-    std::cout << std::setprecision(4) << "what-if with " << path << " (" << m.kind() << ")\n  base:";
+    std::cout << std::setprecision(4) << "what-if with " << path << " (" << m.kind() << ", model of "
+              << m.sourceLabel() << ")\n  base:";
     for (size_t k : kMaterial) std::cout << ' ' << kInputSpecs[k].name << '=' << a[k];
     std::cout << "\n  new: ";
     for (size_t k : kMaterial) std::cout << ' ' << kInputSpecs[k].name << '=' << b[k];

@@ -20,13 +20,16 @@ int runProcess(const ProcessSpec& spec) {
     if (spec.argv.empty()) throw std::invalid_argument("runProcess: empty argv");
     int fds[2];
     if (::pipe(fds) != 0) throw std::runtime_error("pipe failed");
+    const pid_t parent = ::getpid();
     const pid_t pid = ::fork();
     if (pid < 0) throw std::runtime_error("fork failed");
     if (pid == 0) {
         // The child dies with its parent: a driver killed with SIGKILL must not leave a solver
         // writing into a case that the next driver will resume.
         ::prctl(PR_SET_PDEATHSIG, SIGTERM);
-        if (::getppid() == 1) _exit(127);
+        // The parent may have died before prctl: the orphan then belongs to init or to a
+        // subreaper, whatever its pid.
+        if (::getppid() != parent) _exit(127);
         ::close(fds[0]);
         ::dup2(fds[1], STDOUT_FILENO);
         ::dup2(fds[1], STDERR_FILENO);

@@ -273,4 +273,18 @@ Surrogate Surrogate::load(const std::filesystem::path& file) {
 
 void Surrogate::save(const std::filesystem::path& file) const { writeFileAtomic(file, toJson().dump(1) + "\n"); }
 
+std::string Surrogate::sourceLabel() const {
+    const auto src = provenance_.value("source", nlohmann::json::object());
+    const auto base = src.value("base", nlohmann::json::object());
+    if (base.value("kind", std::string()) != "mixer") return "source not recorded";
+    std::ostringstream os;
+    os << "scene " << base.value("scene", std::string("?")) << ", " << base.value("method", std::string("?")) << ", ";
+    if (base.contains("cell_size_m")) os << base["cell_size_m"].get<double>() << " m mesh";
+    else os << base.value("mesh", std::string("?")) << " mesh";
+    // Campaign bases written before the O-grid carry no mesher: they ran on the snappy mesh.
+    os << " (" << base.value("mesher", std::string("snappy")) << "), campaign " << src.value("campaign", std::string("?"))
+       << ", " << provenance_.value("runs_usable", 0) << " runs";
+    return os.str();
+}
+
 }  // namespace mixload::surrogates

@@ -61,6 +61,9 @@ public:
     const std::vector<std::string>& trainingIds() const { return trained_; }
     const nlohmann::json& validation() const { return validation_; }
     const nlohmann::json& provenance() const { return provenance_; }
+    // What the model stands for, from its provenance: "scene gcm250, mrf, 0.01 m mesh (snappy),
+    // campaign mixer-avicel, 56 runs" (a prediction is only as good as the scene it learnt).
+    std::string sourceLabel() const;
     nlohmann::json& checks() { return checks_; }
     const nlohmann::json& checkHistory() const { return checks_; }
     std::vector<std::string> warnings() const;
