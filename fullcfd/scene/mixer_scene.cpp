@@ -60,9 +60,13 @@ void MixerGeometry::validate() const {
     if (weirCovers != 1 && weirCovers != -1)
         throw InputError("weir.covers", std::to_string(weirCovers), "\"+y\" or \"-y\"");
     requireRange("inlet.diameter_m", inletDiameter, 0.0, bore, false, false);
-    // The feed port lies on the end face, clear of the shaft and inside the bore.
+    // The feed port lies on the end face, clear of the shaft and inside the bore: above the axis
+    // (the powder falls to the bed) or below it (the port opens into the bed).
     const double r = 0.5 * inletDiameter;
-    requireRange("inlet.height_m", inletHeight, shaftRadius() + r, radius() - r, false, false);
+    if (!(std::abs(inletHeight) > shaftRadius() + r && std::abs(inletHeight) < radius() - r))
+        throw InputError("inlet.height_m", formatNumber(inletHeight),
+                         "a port clear of the shaft and inside the bore: " + formatNumber(shaftRadius() + r) +
+                             " < |height| < " + formatNumber(radius() - r));
 }
 
 MixerNumerics MixerNumerics::named(const std::string& name) {

@@ -97,6 +97,9 @@ TEST(MixerScene, RejectsImpossibleGeometry) {
     expectInvalid("[impeller]\npaddle_count = 40\n", "impeller.paddle_count");
     expectInvalid("[impeller]\npaddle_count = 2.5\n", "a whole number");
     expectInvalid("[inlet]\nheight_m = 0.001\n", "inlet.height_m");
+    expectInvalid("[inlet]\nheight_m = -0.015\n", "inlet.height_m");  // into the shaft
+    expectInvalid("[inlet]\nheight_m = -0.045\n", "inlet.height_m");  // through the bore
+    EXPECT_DOUBLE_EQ(parse("[inlet]\nheight_m = -0.035\n").geometry.inletHeight, -0.035);  // into the bed
     expectInvalid("[barrel]\nlenght_m = 0.3\n", "unknown key barrel.lenght_m");
     expectInvalid("[rotor]\nx = 1\n", "unknown table [rotor]");
     expectInvalid("[operation]\ninitial_loading_kg = 5\n", "initial-loading-kg");
