@@ -61,7 +61,7 @@ void checkName(const std::string& name) {
 // The base inputs of a campaign, as stored in the ledger; every point applies its params on top.
 nlohmann::json baseOf(const CampaignCmd& o, const std::string& kind) {
     if (kind == "mixer") {
-        nlohmann::json b{{"kind", kind}, {"scene", o.scene.empty() ? "gcm250" : o.scene},
+        nlohmann::json b{{"kind", kind}, {"scene", o.scene.empty() ? scene::kDefaultMixerScene : o.scene},
                          {"method", o.method}, {"mesh", o.mesh.empty() ? "coarse" : o.mesh}};
         if (o.cellSize) b["cell_size_m"] = *o.cellSize, b["mesh"] = "custom";
         if (o.endTime) b["end_time_s"] = *o.endTime;
@@ -448,7 +448,8 @@ void addCampaign(CLI::App& app, Action& action) {
     cr->add_option("--design", o->design, "lhs (maximin Latin hypercube) | sobol")->capture_default_str();
     cr->add_option("--n", o->n, "Number of points")->required();
     cr->add_option("--seed", o->seed, "Seed of the Latin hypercube")->capture_default_str();
-    cr->add_option("--scene", o->scene, "Mixer: scene name or file (default gcm250); collapse: material (default quartz)");
+    cr->add_option("--scene", o->scene, std::string("Mixer: scene name or file (default ") + scene::kDefaultMixerScene +
+                                            "); collapse: material (default quartz)");
     cr->add_option("--method", o->method, "Mixer method: mrf | lts | sm")->capture_default_str();
     cr->add_option("--mesh", o->mesh, "Mixer: coarse | medium | fine (default coarse); collapse: cells per column length (default 30)");
     cr->add_option("--cell-size", o->cellSize, "Mixer: explicit cell size [m] instead of --mesh");

@@ -6,7 +6,7 @@
 namespace mixload::app {
 
 void MixerOptions::add(CLI::App* cmd, bool withMethod) {
-    cmd->add_option("--scene", scene, "Scene: gcm250 (shipped) or a scene .toml file")
+    cmd->add_option("--scene", scene, "Scene: a shipped scene (data/scenes) or a scene .toml file")
         ->capture_default_str();
     cmd->add_option("--set", sets,
                     "Set a numeric key of the scene file, TABLE.KEY=VALUE (e.g. "

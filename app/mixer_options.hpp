@@ -12,7 +12,7 @@
 namespace mixload::app {
 
 struct MixerOptions {
-    std::string scene = "gcm250";
+    std::string scene = scene::kDefaultMixerScene;
     std::optional<std::string> method, mesh, mesher, rheology, convention, numerics;
     std::optional<double> rpm, feedKgH, muS, muD, I0, d, rho, initialLoadingKg, endTime, cellSize,
         etaMax, window, residence, tol, flowTol, minTime, airViscosity, courantAlphaMin, maxDeltaT;

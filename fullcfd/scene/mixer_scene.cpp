@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "scene/mixer_scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <set>
@@ -366,10 +367,22 @@ MixerScene parseMixerScene(const std::string& text, const std::string& origin, c
     return s;
 }
 
+namespace {
+std::string shippedScenes() {
+    std::vector<std::string> names;
+    for (const auto& e : std::filesystem::directory_iterator(dataDir() / "scenes"))
+        if (e.path().extension() == ".toml") names.push_back(e.path().stem().string());
+    std::sort(names.begin(), names.end());
+    std::string out;
+    for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+    return out;
+}
+}  // namespace
+
 MixerScene loadMixerScene(const std::string& nameOrPath, const SceneKeys& keys) {
     std::filesystem::path p(nameOrPath);
     if (p.extension() != ".toml") p = dataDir() / "scenes" / (nameOrPath + ".toml");
-    if (!std::filesystem::exists(p)) throw InputError("scene", nameOrPath, "gcm250 or a scene .toml file");
+    if (!std::filesystem::exists(p)) throw InputError("scene", nameOrPath, "a shipped scene (data/scenes: " + shippedScenes() + ") or a scene .toml file");
     return parseMixerScene(readFile(p), p.string(), keys);
 }
 

@@ -12,6 +12,9 @@
 
 namespace mixload::scene {
 
+// The scene a mixer command uses when none is named (data/scenes/<name>.toml).
+inline constexpr const char* kDefaultMixerScene = "gcm250";
+
 // Geometry of a Gericke-type continuous horizontal mixer (all lengths in metres). The shaft lies on
 // the x axis; the feed end face is x = 0 and the discharge is x = length; gravity is -z.
 struct MixerGeometry {
@@ -69,7 +72,7 @@ struct MixerNumerics {
 
 // A mixer run's inputs: geometry, powder, operating point, method and mesh.
 struct MixerScene {
-    std::string name = "gcm250";
+    std::string name = kDefaultMixerScene;
     MixerGeometry geometry;
     Material material;             // grain-side values; bulk density = phi * rhoS
     std::string convention = "paper";
