@@ -23,6 +23,9 @@ struct CalibrationOptions {
     double stopRms = 0.25;
     // Stop once a step moves every parameter by less than this share of its range.
     double xtolShare = 0.005;
+    // Residuals per evaluation, when known: one parameter against one target is a root search
+    // (bracketing, then Illinois regula falsi); anything else goes to NLopt's BOBYQA.
+    int residuals = 0;
 };
 
 struct CalibrationTrace {
@@ -30,7 +33,7 @@ struct CalibrationTrace {
     std::vector<std::vector<double>> r;  // scaled residuals of each evaluation
     std::vector<double> rms;
     size_t best = 0;
-    std::string stop;  // within-stop-rms | xtol | max-evals | ...
+    std::string stop;  // within-stop-rms | xtol | max-evals | bound (root search: target out of range) | ...
 };
 
 // residuals(x) returns, per target, (value - target) / (tolerance * target). Exceptions thrown by

@@ -158,12 +158,17 @@ private:
         if (row && row->status == "failed")
             throw run::RunError("calibration " + c_.name + ": the run at " + targetLabel(t) + " failed twice (" +
                                 row->error + "); see " + row->runDir);
-        if (!row)
+        if (!row) {
             ledger_.addPoints(c_.name, {{{"keys", keys}, {"rpm", t.rpm}, {"feed_kg_h", t.feedKgH}, {"scene_hash", hash}}});
-        const auto claimed = ledger_.claimNext(c_.name, 2, false);
-        if (!claimed || claimed->params.value("scene_hash", "") != hash)
-            throw std::runtime_error("calibration " + c_.name + ": the ledger holds a queued run this fit did not "
-                                     "ask for (another driver on the same calibration?)");
+            for (auto& r : ledger_.runs(c_.name))
+                if (r.params.value("scene_hash", "") == hash) row = r;
+        }
+        // This run and no other: a queued row may be one an earlier fit asked for and this one
+        // does not (a fit whose algorithm changed); it stays queued, harmless.
+        const auto claimed = ledger_.claimNext(c_.name, 2, false, row->id);
+        if (!claimed)
+            throw std::runtime_error("calibration " + c_.name + ": run " + hash +
+                                     " is taken (another driver on the same calibration?)");
         run::MixerJob job;
         job.scene = s;
         job.np = c_.np;
@@ -343,7 +348,9 @@ nlohmann::json runMixerCalibration(const MixerCalibration& c) {
     std::string status;
     CalibrationTrace t;
     try {
-        t = calibrate(c.params, [&](const std::vector<double>& x) { return d.residuals(x); }, c.fit, onEval);
+        CalibrationOptions fit = c.fit;
+        fit.residuals = static_cast<int>(c.targets.size());
+        t = calibrate(c.params, [&](const std::vector<double>& x) { return d.residuals(x); }, fit, onEval);
     } catch (const DeadlineReached&) {
         last.stop = "max-hours";
         nlohmann::json j = d.report(last, "stopped-at-max-hours");

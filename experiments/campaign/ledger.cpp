@@ -215,14 +215,16 @@ std::optional<CampaignInfo> Ledger::campaign(const std::string& name) const {
 }
 
 std::optional<LedgerRun> Ledger::claimNext(const std::string& campaign, int maxAttempts,
-                                           bool recover) {
+                                           bool recover, std::optional<long> id) {
     Transaction tx(db_);
     std::optional<LedgerRun> r;
     {
         Stmt s(db_, std::string("SELECT ") + kRunColumns +
                         " FROM runs WHERE campaign = ? AND attempts < ? AND (status = 'queued'" +
-                        (recover ? " OR status = 'running'" : "") + ") ORDER BY idx LIMIT 1");
+                        (recover ? " OR status = 'running'" : "") + ")" + (id ? " AND id = ?" : "") +
+                        " ORDER BY idx LIMIT 1");
         s.bind(1, campaign).bind(2, static_cast<long long>(maxAttempts));
+        if (id) s.bind(3, static_cast<long long>(*id));
         if (s.step()) r = readRun(s);
     }
     if (!r) return std::nullopt;

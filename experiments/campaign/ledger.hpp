@@ -55,7 +55,9 @@ public:
     // Atomically takes the next run to do: a queued run, or (recover = true) one left "running" by
     // a driver that died; marks it running, counts the attempt. Runs with attempts >= maxAttempts
     // are not taken.
-    std::optional<LedgerRun> claimNext(const std::string& campaign, int maxAttempts, bool recover);
+    // With `id`, only that run is taken (a driver that chooses its own next run, as a calibration).
+    std::optional<LedgerRun> claimNext(const std::string& campaign, int maxAttempts, bool recover,
+                                       std::optional<long> id = std::nullopt);
     void markDone(long id, const nlohmann::json& result, double wall, double core,
                   const std::string& runDir);
     // failed = true ends the run; false puts it back in the queue for another attempt.

@@ -30,6 +30,31 @@ TEST(Calibrator, OneParameterReachesTheBandInAFewEvaluations) {
     }
 }
 
+TEST(Calibrator, OneParameterOneTargetIsARootSearchOfAFewEvaluations) {
+    const std::vector<CalibrationBound> b{{"barrel.bore_m", 0.10, 0.20, 0.14}};
+    // A dam-like loading that grows with the bore; targets on both sides of the start.
+    for (double target : {0.2, 0.311, 0.45}) {
+        int calls = 0;
+        const auto t = calibrate(
+            b,
+            [&](const std::vector<double>& x) {
+                ++calls;
+                return residual(0.244 * std::pow(x[0] / 0.14, 2.6), target, 0.12);
+            },
+            {.stopRms = 0.25, .residuals = 1});
+        EXPECT_EQ(t.stop, "within-stop-rms") << target;
+        EXPECT_LE(t.x.size(), 5u) << target;
+        EXPECT_EQ(calls, static_cast<int>(t.x.size())) << "every evaluation once";
+        EXPECT_LE(std::abs(t.r[t.best][0]), 0.25);
+    }
+    // Beyond the range: it stops at the bound and says so.
+    const auto far = calibrate(
+        b, [](const std::vector<double>& x) { return residual(0.244 * std::pow(x[0] / 0.14, 2.6), 5.0, 0.12); },
+        {.residuals = 1});
+    EXPECT_EQ(far.stop, "bound");
+    EXPECT_DOUBLE_EQ(far.x[far.best][0], 0.20);
+}
+
 TEST(Calibrator, TwoTargetsTwoParameters) {
     // M = a * feed / rpm + b: two operating points fix both.
     const std::vector<CalibrationBound> b{{"a", 0.5, 20, 5}, {"b", 0.0, 0.5, 0.1}};
