@@ -3,6 +3,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <sstream>
 
@@ -98,7 +100,13 @@ public:
 
     std::vector<double> residuals(const std::vector<double>& x) {
         Evaluation e;
-        for (size_t i = 0; i < x.size(); ++i) e.keys[c_.params[i].key] = x[i];
+        // Six significant digits: the scene (and its hash) must not depend on how the search's
+        // arithmetic rounded (0.14 + 0.025 against 0.14 + 0.25 * 0.1).
+        for (size_t i = 0; i < x.size(); ++i) {
+            char b[32];
+            std::snprintf(b, sizeof b, "%.6g", x[i]);
+            e.keys[c_.params[i].key] = std::strtod(b, nullptr);
+        }
         std::vector<double> r;
         for (const auto& t : c_.targets) {
             scene::MixerScene s = c_.sceneFor(e.keys);
