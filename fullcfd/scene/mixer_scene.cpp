@@ -301,14 +301,14 @@ MixerScene parseMixerScene(const std::string& text, const std::string& origin, c
                          std::to_string(src.begin.column) + ": malformed TOML: " +
                          std::string(e.description()));
     }
-    static const std::set<std::string> tables{"barrel", "impeller", "weir",    "inlet",
-                                              "powder", "operation", "mesh",  "numerics"};
+    static const std::set<std::string> tables{"barrel", "impeller", "weir", "inlet",   "powder",
+                                              "operation", "mesh", "numerics", "steady"};
     for (const auto& [key, value] : keys) {
         const auto dot = key.find('.');
         const std::string table = key.substr(0, dot);
         if (dot == std::string::npos || !tables.count(table))
             throw InputError("set", key, "TABLE.KEY with TABLE one of barrel, impeller, weir, inlet, powder, "
-                                         "operation, mesh, numerics");
+                                         "operation, mesh, numerics, steady");
         if (!root.contains(table)) root.insert(table, toml::table{});
         root[table].as_table()->insert_or_assign(key.substr(dot + 1), value);
     }
@@ -321,7 +321,7 @@ MixerScene parseMixerScene(const std::string& text, const std::string& origin, c
     auto& g = s.geometry;
     Section barrel(root, "barrel", origin), imp(root, "impeller", origin), weir(root, "weir", origin),
         inlet(root, "inlet", origin), powder(root, "powder", origin), op(root, "operation", origin),
-        mesh(root, "mesh", origin), num(root, "numerics", origin);
+        mesh(root, "mesh", origin), num(root, "numerics", origin), steady(root, "steady", origin);
     g.length = barrel.number("length_m", g.length);
     g.bore = barrel.number("bore_m", g.bore);
     g.shaftDiameter = imp.number("shaft_diameter_m", g.shaftDiameter);
@@ -357,7 +357,14 @@ MixerScene parseMixerScene(const std::string& text, const std::string& origin, c
     n.nonOrthCorrectors = num.whole("non_orth_correctors", n.nonOrthCorrectors);
     n.maxDeltaT = num.number("max_delta_t_s", n.maxDeltaT);
     n.alphaSubCycles = num.whole("alpha_sub_cycles", n.alphaSubCycles);
-    for (auto* sec : {&barrel, &imp, &weir, &inlet, &powder, &op, &mesh, &num}) sec->checkKnown();
+    // The steady test and the cap on simulated time belong to the scene when its residence time
+    // is minutes (a deep bed): the defaults suit the thin-film scene.
+    s.endTime = steady.number("end_time_s", s.endTime);
+    s.steadyWindowRevs = steady.number("window_revs", s.steadyWindowRevs);
+    s.steadyResidence = steady.number("window_residence", s.steadyResidence);
+    s.steadyTol = steady.number("tol", s.steadyTol);
+    s.steadyFlowTol = steady.number("flow_tol", s.steadyFlowTol);
+    for (auto* sec : {&barrel, &imp, &weir, &inlet, &powder, &op, &mesh, &num, &steady}) sec->checkKnown();
     for (int i = 0; i < 3; ++i)
         requireRange(std::string("mesh.") + (i == 0 ? "coarse" : i == 1 ? "medium" : "fine") +
                          "_cell_m",

@@ -186,3 +186,16 @@ TEST(MixerScene, TheViscosityCapsDepthIsAKeyOfTheScene) {
     EXPECT_NE(s.hash(), base.hash());
     EXPECT_THROW(scene::loadMixerScene("gcm250", {{"powder.eta_max_h_m", -1}}), InputError);
 }
+
+TEST(MixerScene, TheSteadyTestCanBelongToTheScene) {
+    const auto s = parse("[steady]\nend_time_s = 900\ntol = 0.01\nflow_tol = 0.03\nwindow_residence = 0.25\n");
+    EXPECT_DOUBLE_EQ(s.endTime, 900);
+    EXPECT_DOUBLE_EQ(s.steadyTol, 0.01);
+    EXPECT_DOUBLE_EQ(s.steadyFlowTol, 0.03);
+    EXPECT_DOUBLE_EQ(s.steadyResidence, 0.25);
+    EXPECT_NE(s.hash(), parse("").hash());
+    expectInvalid("[steady]\nwindow = 3\n", "steady.window");
+    expectInvalid("[steady]\ntol = 0.9\n", "steady-tol");
+    // Without the table the defaults, and the shipped scene's hash, stay.
+    EXPECT_DOUBLE_EQ(parse("").endTime, MixerScene{}.endTime);
+}
