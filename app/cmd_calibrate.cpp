@@ -17,7 +17,7 @@ struct CalibrateCmd {
     std::vector<std::string> params, targets;
     int maxEvals = 12, np = 1;
     double stopRms = 0.25, maxHours = 0;
-    bool allowUnsteady = false, json = false;
+    bool allowUnsteady = false, sizeDeposit = false, json = false;
 };
 
 void print(const nlohmann::json& r) {
@@ -67,6 +67,9 @@ void addCalibrate(CLI::App& app, Action& action) {
         ->capture_default_str();
     cmd->add_flag("--allow-unsteady", o->allowUnsteady,
                   "Count runs that reach --end-time without a steady verdict (tests, quick looks)");
+    cmd->add_flag("--size-deposit", o->sizeDeposit,
+                  "From the third evaluation on, deposit the loading the evaluations so far predict there "
+                  "(deep beds settle much sooner from near their loading)");
     cmd->add_option("--np", o->np, "MPI ranks per run")->capture_default_str();
     cmd->add_option("--max-hours", o->maxHours,
                     "Stop after this many hours (0: no limit); run again to continue")
@@ -86,6 +89,7 @@ void addCalibrate(CLI::App& app, Action& action) {
             c.fit.maxEvals = o->maxEvals;
             c.fit.stopRms = o->stopRms;
             c.allowUnsteady = o->allowUnsteady;
+            c.sizeDeposit = o->sizeDeposit;
             c.np = o->np;
             c.maxHours = o->maxHours;
             c.progress = !o->json;

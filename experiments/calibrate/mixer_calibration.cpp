@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "calibrate/mixer_calibration.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -108,12 +109,29 @@ public:
             e.keys[c_.params[i].key] = std::strtod(b, nullptr);
         }
         std::vector<double> r;
-        for (const auto& t : c_.targets) {
+        for (size_t k = 0; k < c_.targets.size(); ++k) {
+            const auto& t = c_.targets[k];
             scene::MixerScene s = c_.sceneFor(e.keys);
             s.rpm = t.rpm;
             s.feedKgH = t.feedKgH;
+            if (c_.sizeDeposit) {
+                std::vector<std::vector<double>> xs;
+                std::vector<double> ms;
+                for (const auto& prev : evals_) {
+                    std::vector<double> px;
+                    for (const auto& p : c_.params) px.push_back(prev.keys.at(p.key));
+                    xs.push_back(px);
+                    ms.push_back(prev.runs.at(k).at("loading_kg").get<double>());
+                }
+                if (const auto m = depositFor(xs, ms, x, c_.params)) {
+                    // Within what the scene accepts: a deposit the barrel can hold.
+                    const double cap = 0.9 * s.geometry.openVolume() * s.bulkDensity();
+                    s.initialLoadingKg = std::min(*m, cap);
+                }
+            }
             s.validate();
             nlohmann::json run = runOnce(s, e.keys, t);
+            run["deposit_kg"] = s.initialLoadingKg;
             const double m = run.at("loading_kg").get<double>();
             if (!run.value("steady", false) && !c_.allowUnsteady)
                 throw run::RunError("calibration " + c_.name + ": the run at " + targetLabel(t) +
@@ -246,6 +264,7 @@ void Driver::writeReport(const nlohmann::json& j) const {
             csv << ',' << r["loading_kg"].get<double>() << ',' << (r.value("steady", false) ? 1 : 0) << ','
                 << r["residual"].get<double>();
             md << ' ' << sig4(r["loading_kg"].get<double>()) << (r.value("steady", false) ? "" : " (not steady)")
+               << (r.contains("deposit_kg") ? " from " + sig4(r["deposit_kg"].get<double>()) : std::string())
                << " | " << sig4(r["residual"].get<double>()) << " |";
         }
         csv << ',' << e["rms"].get<double>() << '\n';
@@ -292,6 +311,37 @@ void Driver::writeReport(const nlohmann::json& j) const {
 
 }  // namespace
 
+std::optional<double> depositFor(const std::vector<std::vector<double>>& xs, const std::vector<double>& loadings,
+                                 const std::vector<double>& x, const std::vector<CalibrationBound>& bounds) {
+    if (xs.size() < 2) return std::nullopt;
+    const auto scaled = [&](const std::vector<double>& a, size_t i) { return a[i] / (bounds[i].hi - bounds[i].lo); };
+    std::vector<size_t> order(xs.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    const auto dist = [&](size_t j) {
+        double d = 0;
+        for (size_t i = 0; i < x.size(); ++i) d += std::pow(scaled(xs[j], i) - scaled(x, i), 2);
+        return d;
+    };
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return dist(a) < dist(b); });
+    double m = loadings[order[0]];
+    if (x.size() == 1) {
+        // Interpolate between the nearest points on either side; beyond them, extrapolate from the
+        // two nearest on the one side.
+        std::vector<size_t> byX(order);
+        std::sort(byX.begin(), byX.end(), [&](size_t i, size_t j) { return xs[i][0] < xs[j][0]; });
+        size_t hi = 0;
+        while (hi < byX.size() && xs[byX[hi]][0] < x[0]) ++hi;
+        const size_t i1 = hi == 0 ? 0 : hi == byX.size() ? byX.size() - 2 : hi - 1;
+        const size_t a = byX[i1], b = byX[i1 + 1];
+        if (xs[b][0] != xs[a][0])
+            m = loadings[a] + (loadings[b] - loadings[a]) * (x[0] - xs[a][0]) / (xs[b][0] - xs[a][0]);
+    }
+    if (!(m > 0)) m = *std::min_element(loadings.begin(), loadings.end());
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", m);
+    return std::strtod(buf, nullptr);
+}
+
 CalibrationBound parseCalibrationParam(const std::string& text) {
     const auto eq = text.find('=');
     const std::string key = text.substr(0, eq);
@@ -327,6 +377,9 @@ void validateCalibration(const MixerCalibration& c) {
     requireRange("stop-rms", c.fit.stopRms, 0.0, 1.0, false, true);
     requireRange("np", c.np, 1, 256);
     requireRange("max-hours", c.maxHours, 0, 1e5);
+    for (const auto& p : c.params)
+        if (c.sizeDeposit && p.key == "operation.initial_loading_kg")
+            throw InputError("size-deposit", "given", "not with operation.initial_loading_kg as a parameter");
     for (size_t i = 0; i < c.params.size(); ++i)
         for (size_t j = 0; j < i; ++j)
             if (c.params[i].key == c.params[j].key) throw InputError("param", c.params[i].key, "each key once");

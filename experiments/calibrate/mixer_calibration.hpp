@@ -7,6 +7,7 @@
 #pragma once
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,10 @@ struct MixerCalibration {
     std::function<scene::MixerScene(const scene::SceneKeys&)> sceneFor;
     CalibrationOptions fit;
     bool allowUnsteady = false;  // count a run that hit its end time without a steady verdict
+    // From the third evaluation on, start each run from a deposit the size of the loading the
+    // evaluations so far predict there (depositFor), not the scene's: a deep bed that starts far
+    // from its loading spends most of its run filling or draining.
+    bool sizeDeposit = false;
     int np = 1;
     double maxHours = 0;         // 0: no limit; else stop (resumably) after this long
     bool progress = false;
@@ -46,6 +51,13 @@ void validateCalibration(const MixerCalibration& c);
 // .json) after every evaluation and returns the report's JSON. status: within-band |
 // outside-band | stopped-at-max-hours.
 nlohmann::json runMixerCalibration(const MixerCalibration& c);
+
+// The deposit for an evaluation at x [kg]: the loading interpolated (or extrapolated, from the two
+// nearest) linearly in the one parameter over the evaluations so far (x, M); with several
+// parameters, the loading of the nearest evaluation (in units of each range). Three significant
+// digits. Fewer than two evaluations: nothing (the scene's deposit).
+std::optional<double> depositFor(const std::vector<std::vector<double>>& xs, const std::vector<double>& loadings,
+                                 const std::vector<double>& x, const std::vector<CalibrationBound>& bounds);
 
 // "weir.chord_angle_deg=20:88[:55]" and "39:5:0.311[:0.12]" (rpm:feed:loading[:tol]).
 CalibrationBound parseCalibrationParam(const std::string& text);

@@ -78,6 +78,26 @@ TEST(CalibrateCli, AnEvaluationStoppedMidRunResumes) {
     EXPECT_GE(result["end_time_s"].get<double>(), 0.5 - 1e-6);
 }
 
+TEST(CalibrateCli, SizedDepositsFollowTheEvaluationsSoFar) {
+    // Over 0.05 s the loading is the deposit whatever the bore: the third run starts from the
+    // loading the first two measured (interpolated), not from the scene's 0.3 kg.
+    const fs::path dir = scratchDir("calibrate-deposit");
+    const auto r = runMixload({"calibrate", "mixer", "--name", "dep", "--dir", dir.string(), "--cell-size", "0.01",
+                               "--end-time", "0.05", "--allow-unsteady", "--param", "barrel.bore_m=0.09:0.12:0.1",
+                               "--target", "39:5:0.2", "--max-evals", "3", "--size-deposit", "--json"});
+    const auto j = parsed(r);
+    ASSERT_EQ(j["evaluations"].size(), 3u) << r.err;
+    const auto run = [&](int i) { return j["evaluations"][i]["runs"][0]; };
+    EXPECT_DOUBLE_EQ(run(0)["deposit_kg"].get<double>(), 0.3);
+    EXPECT_DOUBLE_EQ(run(1)["deposit_kg"].get<double>(), 0.3);
+    const double d2 = run(2)["deposit_kg"].get<double>();
+    EXPECT_NE(d2, 0.3);
+    const double lo = std::min(run(0)["loading_kg"].get<double>(), run(1)["loading_kg"].get<double>());
+    const double hi = std::max(run(0)["loading_kg"].get<double>(), run(1)["loading_kg"].get<double>());
+    EXPECT_GE(d2, lo - 0.1 * lo);  // interpolated or extrapolated from the two, not the scene's
+    EXPECT_LE(d2, hi + 0.1 * hi);
+}
+
 TEST(CalibrateCli, BadInputIsRefusedBeforeAnyRun) {
     const fs::path dir = scratchDir("calibrate-bad");
     const std::vector<std::pair<std::vector<std::string>, std::string>> cases{
@@ -87,6 +107,7 @@ TEST(CalibrateCli, BadInputIsRefusedBeforeAnyRun) {
         {{"--param", "weir.chord_angle_deg=20:80", "--target", "39:5:0"}, "target loading"},
         {{"--param", "weir.chord_angle_deg=20:80", "--target", "39:5"}, "RPM:FEED_KG_H:LOADING_KG"},
         {{"--param", "weir.chord_angle_deg=20:80", "--target", "39:5:0.3", "--rpm", "50"}, "target"},
+        {{"--param", "operation.initial_loading_kg=0.1:0.4", "--target", "39:5:0.3", "--size-deposit"}, "size-deposit"},
     };
     for (const auto& [extra, needle] : cases) {
         std::vector<std::string> args{"calibrate", "mixer", "--name", "bad", "--dir", dir.string(), "--cell-size", "0.01"};

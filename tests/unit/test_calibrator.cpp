@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "calibrate/calibrator.hpp"
+#include "calibrate/mixer_calibration.hpp"
 
 using namespace mixload::experiments;
 
@@ -95,4 +96,18 @@ TEST(Calibrator, IsDeterministicAndPassesErrorsOn) {
                      {}, [&](const CalibrationTrace& t) { seen = t.x.size(); }),
                  std::runtime_error);
     EXPECT_EQ(seen, 1u);
+}
+
+TEST(Calibrator, TheDepositFollowsTheEvaluationsSoFar) {
+    const std::vector<CalibrationBound> b{{"barrel.bore_m", 0.10, 0.20, 0.14}};
+    const std::vector<std::vector<double>> xs{{0.14}, {0.165}};
+    const std::vector<double> m{0.244, 0.39};
+    EXPECT_FALSE(depositFor({{0.14}}, {0.244}, {0.15}, b));  // one evaluation: the scene's deposit
+    EXPECT_DOUBLE_EQ(*depositFor(xs, m, {0.152}, b), 0.314);  // between: interpolated, 3 digits
+    EXPECT_DOUBLE_EQ(*depositFor(xs, m, {0.19}, b), 0.536);   // beyond: extrapolated
+    EXPECT_DOUBLE_EQ(*depositFor(xs, m, {0.10}, b), 0.0104);  // below: extrapolated too
+    EXPECT_DOUBLE_EQ(*depositFor(xs, m, {0.05}, b), 0.244);   // never negative: the smallest loading
+    // Two parameters: the nearest evaluation's loading.
+    const std::vector<CalibrationBound> b2{{"a", 0, 1, 0.5}, {"b", 0, 10, 5}};
+    EXPECT_DOUBLE_EQ(*depositFor({{0.1, 1}, {0.9, 9}}, {0.2, 0.4}, {0.8, 8}, b2), 0.4);
 }
