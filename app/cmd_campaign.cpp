@@ -19,6 +19,7 @@
 #include "app/mixer_options.hpp"
 #include "campaign/ledger.hpp"
 #include "common/atomic_file.hpp"
+#include "common/clock.hpp"
 #include "common/input_error.hpp"
 #include "common/process.hpp"
 #include "common/progress.hpp"
@@ -337,10 +338,7 @@ int runCampaign(const CampaignCmd& o) {
     // Whatever a previous driver left running died with it (its solvers die with their parent).
     const int recovered = ledger->requeueRunning(o.name);
     const auto start = std::chrono::steady_clock::now();
-    std::optional<std::chrono::steady_clock::time_point> deadline;
-    if (o.maxHours > 0)
-        deadline = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                               std::chrono::duration<double>(o.maxHours * 3600.0));
+    const auto deadline = deadlineAfterHours(o.maxHours);
     const auto total = ledger->runs(o.name).size();
     const nlohmann::json before = ledger->status(o.name);
     std::atomic<size_t> finished{before["done"].get<size_t>() + before["failed"].get<size_t>()};

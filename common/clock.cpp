@@ -11,4 +11,10 @@ std::string utcNow() {
     std::strftime(b, sizeof b, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
     return b;
 }
+
+std::optional<std::chrono::steady_clock::time_point> deadlineAfterHours(double hours) {
+    if (!(hours > 0)) return std::nullopt;
+    return std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                  std::chrono::duration<double>(hours * 3600.0));
+}
 }  // namespace mixload

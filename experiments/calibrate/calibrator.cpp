@@ -121,11 +121,10 @@ CalibrationTrace calibrate(const std::vector<CalibrationBound>& bounds, const Re
                            const std::function<void(const CalibrationTrace&)>& onEval) {
     const unsigned n = static_cast<unsigned>(bounds.size());
     if (n == 0) throw std::invalid_argument("calibrate: no parameters");
+    for (const auto& b : bounds)
+        if (!(b.hi > b.lo)) throw std::invalid_argument("calibrate: empty range for " + b.key);
     Context c{&bounds, &residuals, &onEval, {}, nullptr, nullptr};
-    if (n == 1 && opt.residuals == 1) {
-        if (!(bounds[0].hi > bounds[0].lo)) throw std::invalid_argument("calibrate: empty range for " + bounds[0].key);
-        return findRoot(c, opt);
-    }
+    if (n == 1 && opt.residuals == 1) return findRoot(c, opt);
     // BOBYQA: bounded, derivative-free, with a quadratic model that suits a sum of squares. On the
     // analytic responses of the unit tests it needed 5-10 evaluations in one dimension and 9 in
     // two, against 4-9 and 21 for COBYLA and 6-9 and 42 for Subplex.
@@ -135,7 +134,6 @@ CalibrationTrace calibrate(const std::vector<CalibrationBound>& bounds, const Re
     std::vector<double> lb(n, 0.0), ub(n, 1.0), step(n, 0.25), u(n);
     for (unsigned i = 0; i < n; ++i) {
         const auto& b = bounds[i];
-        if (!(b.hi > b.lo)) throw std::invalid_argument("calibrate: empty range for " + b.key);
         u[i] = std::clamp((b.start - b.lo) / (b.hi - b.lo), 0.0, 1.0);
     }
     nlopt_set_lower_bounds(o.get(), lb.data());

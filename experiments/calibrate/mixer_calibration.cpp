@@ -11,6 +11,7 @@
 
 #include "campaign/ledger.hpp"
 #include "common/atomic_file.hpp"
+#include "common/clock.hpp"
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
 #include "common/process.hpp"
@@ -35,6 +36,30 @@ double number(const std::string& field, const std::string& text, const std::stri
     const auto v = parseNumber(text);
     if (!v || !std::isfinite(*v)) throw InputError(field, whole, "numbers separated by ':'");
     return *v;
+}
+
+// v as the nearest number with that many significant digits prints: a scene built from it, and its
+// hash, do not depend on how the arithmetic before it rounded (0.14 + 0.025 against 0.14 + 0.25 * 0.1).
+double roundSignificant(double v, int digits) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.*g", digits, v);
+    return std::strtod(b, nullptr);
+}
+
+double maxAbs(const std::vector<double>& v) {
+    double m = 0;
+    for (double x : v) m = std::max(m, std::abs(x));
+    return m;
+}
+
+// The scene of one run: the base with these keys, at the target's operating point (InputError if
+// the scene refuses it).
+scene::MixerScene sceneAt(const MixerCalibration& c, const scene::SceneKeys& keys, const LoadingTarget& t) {
+    scene::MixerScene s = c.sceneFor(keys);
+    s.rpm = t.rpm;
+    s.feedKgH = t.feedKgH;
+    s.validate();
+    return s;
 }
 
 // Four significant digits: what a report reader compares.
@@ -93,27 +118,16 @@ public:
         // A driver killed mid-run left its row running: take it up again (its run directory
         // resumes from its last written time).
         ledger_.requeueRunning(c.name);
-        if (c.maxHours > 0)
-            deadline_ = std::chrono::steady_clock::now() +
-                        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                            std::chrono::duration<double>(c.maxHours * 3600.0));
+        deadline_ = deadlineAfterHours(c.maxHours);
     }
 
     std::vector<double> residuals(const std::vector<double>& x) {
         Evaluation e;
-        // Six significant digits: the scene (and its hash) must not depend on how the search's
-        // arithmetic rounded (0.14 + 0.025 against 0.14 + 0.25 * 0.1).
-        for (size_t i = 0; i < x.size(); ++i) {
-            char b[32];
-            std::snprintf(b, sizeof b, "%.6g", x[i]);
-            e.keys[c_.params[i].key] = std::strtod(b, nullptr);
-        }
+        for (size_t i = 0; i < x.size(); ++i) e.keys[c_.params[i].key] = roundSignificant(x[i], 6);
         std::vector<double> r;
         for (size_t k = 0; k < c_.targets.size(); ++k) {
             const auto& t = c_.targets[k];
-            scene::MixerScene s = c_.sceneFor(e.keys);
-            s.rpm = t.rpm;
-            s.feedKgH = t.feedKgH;
+            scene::MixerScene s = sceneAt(c_, e.keys, t);
             if (c_.sizeDeposit) {
                 std::vector<std::vector<double>> xs;
                 std::vector<double> ms;
@@ -127,9 +141,9 @@ public:
                     // Within what the scene accepts: a deposit the barrel can hold.
                     const double cap = 0.9 * s.geometry.openVolume() * s.bulkDensity();
                     s.initialLoadingKg = std::min(*m, cap);
+                    s.validate();
                 }
             }
-            s.validate();
             nlohmann::json run = runOnce(s, e.keys, t);
             run["deposit_kg"] = s.initialLoadingKg;
             const double m = run.at("loading_kg").get<double>();
@@ -162,9 +176,7 @@ public:
                          {"git_commit", kGitCommit}};
         if (!evals_.empty()) {
             j["best"] = evals[t.best];
-            double worst = 0;
-            for (double v : t.r[t.best]) worst = std::max(worst, std::abs(v));
-            j["best_max_residual"] = worst;
+            j["best_max_residual"] = maxAbs(t.r[t.best]);
         }
         return j;
     }
@@ -174,9 +186,13 @@ public:
 private:
     nlohmann::json runOnce(const scene::MixerScene& s, const scene::SceneKeys& keys, const LoadingTarget& t) {
         const std::string hash = s.hash();
-        std::optional<LedgerRun> row;
-        for (auto& r : ledger_.runs(c_.name))
-            if (r.params.value("scene_hash", "") == hash) row = r;
+        const auto find = [&] {
+            std::optional<LedgerRun> row;
+            for (auto& r : ledger_.runs(c_.name))
+                if (r.params.value("scene_hash", "") == hash) row = r;
+            return row;
+        };
+        std::optional<LedgerRun> row = find();
         if (row && row->status == "done") {
             ++reused_;
             return withRunDir(row->result, row->runDir, true);
@@ -186,8 +202,7 @@ private:
                                 row->error + "); see " + row->runDir);
         if (!row) {
             ledger_.addPoints(c_.name, {{{"keys", keys}, {"rpm", t.rpm}, {"feed_kg_h", t.feedKgH}, {"scene_hash", hash}}});
-            for (auto& r : ledger_.runs(c_.name))
-                if (r.params.value("scene_hash", "") == hash) row = r;
+            row = find();
         }
         // This run and no other: a queued row may be one an earlier fit asked for and this one
         // does not (a fit whose algorithm changed); it stays queued, harmless.
@@ -337,9 +352,7 @@ std::optional<double> depositFor(const std::vector<std::vector<double>>& xs, con
             m = loadings[a] + (loadings[b] - loadings[a]) * (x[0] - xs[a][0]) / (xs[b][0] - xs[a][0]);
     }
     if (!(m > 0)) m = *std::min_element(loadings.begin(), loadings.end());
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.3g", m);
-    return std::strtod(buf, nullptr);
+    return roundSignificant(m, 3);
 }
 
 CalibrationBound parseCalibrationParam(const std::string& text) {
@@ -386,12 +399,7 @@ void validateCalibration(const MixerCalibration& c) {
     // Both ends and the start must make a valid scene at every target: refuse now, not mid-fit.
     for (const auto& p : c.params)
         for (double v : {p.lo, p.hi, p.start})
-            for (const auto& t : c.targets) {
-                scene::MixerScene s = c.sceneFor({{p.key, v}});
-                s.rpm = t.rpm;
-                s.feedKgH = t.feedKgH;
-                s.validate();
-            }
+            for (const auto& t : c.targets) sceneAt(c, {{p.key, v}}, t);
 }
 
 nlohmann::json runMixerCalibration(const MixerCalibration& c) {
@@ -406,7 +414,6 @@ nlohmann::json runMixerCalibration(const MixerCalibration& c) {
                       << formatNumber(t.rms.back()) << '\n';
         }
     };
-    std::string status;
     CalibrationTrace t;
     try {
         CalibrationOptions fit = c.fit;
@@ -418,9 +425,7 @@ nlohmann::json runMixerCalibration(const MixerCalibration& c) {
         d.writeReport(j);
         return j;
     }
-    double worst = 0;
-    for (double v : t.r[t.best]) worst = std::max(worst, std::abs(v));
-    nlohmann::json j = d.report(t, worst <= 1 ? "within-band" : "outside-band");
+    nlohmann::json j = d.report(t, maxAbs(t.r[t.best]) <= 1 ? "within-band" : "outside-band");
     d.writeReport(j);
     return j;
 }
