@@ -1,9 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // `mixload campaign`: offline full-CFD campaigns over a design of experiments, recorded in a
 // SQLite ledger under <dir>/<name>/ledger.sqlite.
-#include <sys/file.h>
-#include <fcntl.h>
-#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
@@ -17,6 +14,7 @@
 #include "app/collapse_options.hpp"
 #include "app/commands.hpp"
 #include "app/mixer_options.hpp"
+#include "campaign/driver_lock.hpp"
 #include "campaign/ledger.hpp"
 #include "common/atomic_file.hpp"
 #include "common/clock.hpp"
@@ -312,21 +310,6 @@ nlohmann::json runPoint(Scene s, bool retry, int np, bool snapshots, const fs::p
 }
 
 // One driver per campaign: an advisory lock that the kernel drops when the driver dies, however.
-class DriverLock {
-public:
-    explicit DriverLock(const fs::path& file) {
-        fd_ = ::open(file.c_str(), O_CREAT | O_RDWR, 0644);
-        if (fd_ < 0 || ::flock(fd_, LOCK_EX | LOCK_NB) != 0)
-            throw run::RunError("another `mixload campaign run` holds " + file.string());
-    }
-    ~DriverLock() {
-        if (fd_ >= 0) ::close(fd_);
-    }
-
-private:
-    int fd_ = -1;
-};
-
 int runCampaign(const CampaignCmd& o) {
     requireRange("jobs", o.jobs, 1, 64);
     requireRange("np", o.np, 1, 256);
@@ -334,7 +317,7 @@ int runCampaign(const CampaignCmd& o) {
     std::unique_ptr<experiments::Ledger> ledger;
     const auto c = openCampaign(o, ledger);
     const fs::path home = fs::path(o.dir) / o.name;
-    DriverLock lock(home / "driver.lock");
+    const experiments::DriverLock lock(home, "campaign run");
     // Whatever a previous driver left running died with it (its solvers die with their parent).
     const int recovered = ledger->requeueRunning(o.name);
     const auto start = std::chrono::steady_clock::now();

@@ -9,6 +9,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "campaign/driver_lock.hpp"
 #include "campaign/ledger.hpp"
 #include "common/atomic_file.hpp"
 #include "common/clock.hpp"
@@ -93,7 +94,8 @@ struct Evaluation {
 
 class Driver {
 public:
-    explicit Driver(const MixerCalibration& c) : c_(c), home_(c.dir / c.name), ledger_(home_ / "ledger.sqlite") {
+    explicit Driver(const MixerCalibration& c)
+        : c_(c), home_(c.dir / c.name), lock_(home_, "calibrate mixer --name " + c.name), ledger_(home_ / "ledger.sqlite") {
         const nlohmann::json spec = specOf(c);
         if (const auto stored = ledger_.campaign(c.name)) {
             if (stored->design != "calibration" || nlohmann::json::parse(stored->rangesToml) != spec)
@@ -239,6 +241,7 @@ private:
 
     const MixerCalibration& c_;
     fs::path home_;
+    DriverLock lock_;  // before the ledger: requeueRunning must not take a live driver's row
     Ledger ledger_;
     std::optional<std::chrono::steady_clock::time_point> deadline_;
     std::vector<Evaluation> evals_;

@@ -1,13 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "run/run_dir.hpp"
 
-#include <fcntl.h>
-#include <sys/file.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <cerrno>
-#include <cstring>
 #include <iostream>
 
 #include "common/atomic_file.hpp"
@@ -20,41 +13,14 @@ namespace mixload::run {
 
 namespace fs = std::filesystem;
 
-RunDirLock::RunDirLock(const fs::path& dir) : path_(dir) {
-    path_ += ".lock";
-    fs::create_directories(dir.parent_path());
-    bool told = false;
-    // The holder unlinks the file when it lets go, so a waiter may end up holding a lock on a file
-    // that no longer has a name; it then starts over on the current file.
-    for (;;) {
-        fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-        if (fd_ < 0) throw RunError("cannot open " + path_.string() + ": " + std::strerror(errno));
-        if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-            if (!told)
-                std::cerr << "mixload: waiting for another mixload process that is running "
-                          << dir.string() << '\n';
-            told = true;
-            while (::flock(fd_, LOCK_EX) != 0)
-                if (errno != EINTR) {
-                    const std::string why = std::strerror(errno);
-                    ::close(fd_);
-                    throw RunError("cannot lock " + path_.string() + ": " + why);
-                }
-        }
-        struct stat held {}, named {};
-        if (::fstat(fd_, &held) == 0 && ::stat(path_.c_str(), &named) == 0 &&
-            held.st_ino == named.st_ino && held.st_dev == named.st_dev)
-            return;
-        ::close(fd_);
-    }
-}
+namespace {
+fs::path lockFile(fs::path dir) { return dir += ".lock"; }
+}  // namespace
 
-RunDirLock::~RunDirLock() {
-    if (fd_ < 0) return;
-    // Unlink before unlocking: nothing is left beside the run, and no newcomer can lock the old file.
-    ::unlink(path_.c_str());
-    ::close(fd_);
-}
+RunDirLock::RunDirLock(const fs::path& dir)
+    : lock_(lockFile(dir), FileLock::Mode::wait, [&] {
+          std::cerr << "mixload: waiting for another mixload process that is running " << dir.string() << '\n';
+      }) {}
 
 std::optional<nlohmann::json> checkRunDir(const fs::path& dir, const std::string& hash, bool reuse) {
     if (!fs::exists(dir)) return std::nullopt;

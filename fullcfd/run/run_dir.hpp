@@ -9,22 +9,19 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/file_lock.hpp"
+
 namespace mixload::run {
 
 // Holds an exclusive lock on "<dir>.lock" for its lifetime, so two mixload processes that share a
 // run store (two studies, or a study and a hand-started run) never run the same case at once: the
-// second waits, then finds the finished result. The file is removed on release; if the process
-// dies the kernel drops the lock and the stale file is reused by the next run.
+// second waits, then finds the finished result.
 class RunDirLock {
 public:
     explicit RunDirLock(const std::filesystem::path& dir);
-    ~RunDirLock();
-    RunDirLock(const RunDirLock&) = delete;
-    RunDirLock& operator=(const RunDirLock&) = delete;
 
 private:
-    std::filesystem::path path_;
-    int fd_ = -1;
+    FileLock lock_;
 };
 
 // Throws InputError if dir exists but holds another scene; returns the stored result (marked

@@ -13,7 +13,7 @@
 namespace mixload::scene {
 
 // The scene a mixer command uses when none is named (data/scenes/<name>.toml).
-inline constexpr const char* kDefaultMixerScene = "gcm250";
+inline constexpr const char* kDefaultMixerScene = "gcm250-v2";
 
 // Geometry of a Gericke-type continuous horizontal mixer (all lengths in metres). The shaft lies on
 // the x axis; the feed end face is x = 0 and the discharge is x = length; gravity is -z.

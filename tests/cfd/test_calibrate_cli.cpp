@@ -20,7 +20,7 @@ namespace {
 std::vector<std::string> tinyArgs(const fs::path& dir, const std::string& maxEvals) {
     return {"calibrate", "mixer", "--name", "tiny", "--dir", dir.string(), "--cell-size", "0.01",
             "--end-time", "0.05", "--allow-unsteady", "--param", "operation.initial_loading_kg=0.1:0.4",
-            "--target", "39:5:0.2", "--max-evals", maxEvals, "--json"};
+            "--target", "39:5:0.2", "--max-evals", maxEvals, "--json", "--scene", "gcm250"};
 }
 
 nlohmann::json parsed(const CliResult& r) {
@@ -82,7 +82,7 @@ TEST(CalibrateCli, SizedDepositsFollowTheEvaluationsSoFar) {
     // Over 0.05 s the loading is the deposit whatever the bore: the third run starts from the
     // loading the first two measured (interpolated), not from the scene's 0.3 kg.
     const fs::path dir = scratchDir("calibrate-deposit");
-    const auto r = runMixload({"calibrate", "mixer", "--name", "dep", "--dir", dir.string(), "--cell-size", "0.01",
+    const auto r = runMixload({"calibrate", "mixer", "--name", "dep", "--dir", dir.string(), "--scene", "gcm250", "--cell-size", "0.01",
                                "--end-time", "0.05", "--allow-unsteady", "--param", "barrel.bore_m=0.09:0.12:0.1",
                                "--target", "39:5:0.2", "--max-evals", "3", "--size-deposit", "--json"});
     const auto j = parsed(r);
@@ -110,7 +110,7 @@ TEST(CalibrateCli, BadInputIsRefusedBeforeAnyRun) {
         {{"--param", "operation.initial_loading_kg=0.1:0.4", "--target", "39:5:0.3", "--size-deposit"}, "size-deposit"},
     };
     for (const auto& [extra, needle] : cases) {
-        std::vector<std::string> args{"calibrate", "mixer", "--name", "bad", "--dir", dir.string(), "--cell-size", "0.01"};
+        std::vector<std::string> args{"calibrate", "mixer", "--name", "bad", "--dir", dir.string(), "--scene", "gcm250", "--cell-size", "0.01"};
         args.insert(args.end(), extra.begin(), extra.end());
         const auto r = runMixload(args);
         EXPECT_EQ(r.rc, 2) << needle << ": " << r.err;

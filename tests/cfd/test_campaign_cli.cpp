@@ -221,7 +221,7 @@ TEST(CampaignCli, ReadmeCommandRecreatesTheShippedMixerCampaignsScenes) {
     const std::string data = MIXLOAD_DATA_DIR;
     auto r = runMixload({"campaign", "create", "mixer-avicel", "--ranges",
                          data + "/campaigns/mixer-avicel-ranges.toml", "--design", "lhs", "--n", "40",
-                         "--seed", "1", "--method", "mrf", "--cell-size", "0.01",
+                         "--seed", "1", "--scene", "gcm250", "--method", "mrf", "--cell-size", "0.01",
                          "--initial-loading-kg", "0.03", "--end-time", "120", "--steady-tol", "0.01",
                          "--steady-flow-tol", "0.03", "--mesher", "snappy",
                          "--steady-window-residence", "0", "--numerics", "legacy",

@@ -15,7 +15,7 @@ namespace fs = std::filesystem;
 
 TEST(FormulationStudy, RunsTheReferenceAndEachVariantAndJudgesOnlySteadyRuns) {
     const fs::path out = scratchDir("formulation") / "study";
-    const auto r = runMixload({"study", "formulation", "--variant", "denser:rho=1.5,mu_s=0.9", "--cell-size", "0.01",
+    const auto r = runMixload({"study", "formulation", "--variant", "denser:rho=1.5,mu_s=0.9", "--scene", "gcm250", "--cell-size", "0.01",
                                "--end-time", "0.05", "--out", out.string(), "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
@@ -34,7 +34,7 @@ TEST(FormulationStudy, RunsTheReferenceAndEachVariantAndJudgesOnlySteadyRuns) {
     for (const char* f : {"table.md", "table.csv", "formulation.png", "study.json"})
         EXPECT_TRUE(fs::exists(out / f)) << f;
     // Run again: both runs come from the run store.
-    const auto again = runMixload({"study", "formulation", "--variant", "denser:rho=1.5,mu_s=0.9", "--cell-size",
+    const auto again = runMixload({"study", "formulation", "--variant", "denser:rho=1.5,mu_s=0.9", "--scene", "gcm250", "--cell-size",
                                    "0.01", "--end-time", "0.05", "--out", out.string(), "--json"});
     ASSERT_EQ(again.rc, 0) << again.err;
     EXPECT_EQ(nlohmann::json::parse(again.out)["rows"][0]["loading_kg"], row["loading_kg"]);

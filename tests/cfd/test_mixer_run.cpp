@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Tiny real mixer runs (gcm250 on a 1 cm mesh, 6-8k cells) through mixload's interFoam with its
+// Tiny real mixer runs (gcm250 on a 1 cm mesh, 6-8k cells; the default scene gcm250-v2 once) through mixload's interFoam with its
 // rheology and loading monitor: powder balance, an active MRF zone, a sliding mesh that turns as a
 // solid body, resting beds, the sliding mesh's powder leak being reported, and bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <fstream>
@@ -24,6 +25,8 @@ namespace {
 nlohmann::json runMixer(const std::string& name, std::vector<std::string> args) {
     const fs::path out = scratchDir("mixer-" + name) / "run";
     std::vector<std::string> all{"mixer", "--cell-size", "0.01", "--out", out.string(), "--json"};
+    // The mechanics are tested on the small thin-film scene; the default scene has its own test.
+    if (std::find(args.begin(), args.end(), "--scene") == args.end()) all.insert(all.end(), {"--scene", "gcm250"});
     all.insert(all.end(), args.begin(), args.end());
     const auto r = runMixload(all);
     EXPECT_EQ(r.rc, 0) << r.err;
@@ -180,6 +183,26 @@ TEST(MixerRun, SmLeaksPowderAndSaysSo) {
     EXPECT_FALSE(r["powder_balance_ok"].get<bool>());
     EXPECT_LT(r["powder_leak_kg_h"].get<double>(), -5.0);
     EXPECT_NE(r["warning"].get<std::string>().find("not conserved"), std::string::npos);
+}
+
+TEST(MixerRun, DefaultSceneIsTheCalibratedDeepBed) {
+    // No scene, no mesh named: the calibrated scene on its coarse level (1 cm), its deposit near
+    // the calibrated loading, its numerics and its steady test from the scene file.
+    const fs::path out = scratchDir("mixer-default") / "run";
+    const auto res = runMixload({"mixer", "--end-time", "0.05", "--out", out.string(), "--json"});
+    ASSERT_EQ(res.rc, 0) << res.err;
+    const auto r = nlohmann::json::parse(res.out);
+    const auto s = nlohmann::json::parse(std::ifstream(out / "scene.json"))["scene"];
+    EXPECT_EQ(s["name"], "gcm250-v2");
+    EXPECT_EQ(s["mesh"], "coarse");
+    EXPECT_DOUBLE_EQ(s["cell_size_m"].get<double>(), 0.01);
+    EXPECT_DOUBLE_EQ(s["geometry"]["bore_m"].get<double>(), 0.165);
+    EXPECT_DOUBLE_EQ(s["geometry"]["inlet_height_m"].get<double>(), -0.035);
+    EXPECT_DOUBLE_EQ(s["numerics"]["courant_alpha_min"].get<double>(), 0.05);
+    EXPECT_NEAR(r["initial_loading_kg"].get<double>(), 0.32, 0.03);  // staircase cells: not exact
+    // A deep bed: nearly all of it in cells more than half powder, and the mass kept.
+    EXPECT_GT(r["dense_loading_kg"].get<double>(), 0.9 * r["loading_kg"].get<double>());
+    EXPECT_TRUE(r["powder_balance_ok"].get<bool>());
 }
 
 TEST(MixerRun, UnresolvedPowderLayerIsFlagged) {

@@ -16,7 +16,7 @@ using namespace mixload::testing;
 namespace fs = std::filesystem;
 
 namespace {
-// Reference loadings, measured on 2026-11-29 with `mixload mixer --cell-size 0.01
+// Reference loadings, measured on 2026-11-29 with `mixload mixer --scene gcm250 --cell-size 0.01
 // --initial-loading-kg 0.03 --steady-tol 0.01 --steady-flow-tol 0.03 --rpm R --feed-kg-h F`
 // (README, "Cost of a steady point"; docs/studies/mixer-cost): at 39 rpm, 5 kg/h the legacy
 // settings' value (the current ones gave +0.27%); at 45 kg/h the current settings' values, because
@@ -28,7 +28,7 @@ struct Point {
 constexpr Point kPoints[] = {{39, 5, 0.024087}, {39, 45, 0.09921}, {254, 45, 0.03626}};
 
 nlohmann::json run(const fs::path& out, const Point& p, const std::string& warmFrom = "") {
-    std::vector<std::string> args{"mixer", "--cell-size", "0.01", "--initial-loading-kg", "0.03",
+    std::vector<std::string> args{"mixer", "--scene", "gcm250", "--cell-size", "0.01", "--initial-loading-kg", "0.03",
                                   "--steady-tol", "0.01", "--steady-flow-tol", "0.03", "--rpm",
                                   std::to_string(p.rpm), "--feed-kg-h", std::to_string(p.feed),
                                   "--out", out.string(), "--json"};

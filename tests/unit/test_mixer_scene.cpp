@@ -40,6 +40,25 @@ TEST(MixerScene, ShippedSceneLoadsWithItsStatedValues) {
     EXPECT_EQ(s.hash(), scene::loadMixerScene("gcm250").hash());
 }
 
+TEST(MixerScene, DefaultSceneCarriesItsNumericsAndSteadyTest) {
+    // The calibrated scene differs from gcm250 in geometry and carries the settings it was
+    // calibrated with; gcm250 stays as it was (its ledgers' hashes).
+    const auto v2 = scene::loadMixerScene(scene::kDefaultMixerScene), v1 = scene::loadMixerScene("gcm250");
+    EXPECT_EQ(v2.name, "gcm250-v2");
+    EXPECT_DOUBLE_EQ(v2.geometry.bore, 0.165);
+    EXPECT_DOUBLE_EQ(v2.geometry.weirChordDeg, 70.0);
+    EXPECT_DOUBLE_EQ(v2.geometry.inletHeight, -0.035);
+    EXPECT_DOUBLE_EQ(v2.numerics.courantAlphaMin, 0.05);
+    EXPECT_DOUBLE_EQ(v2.endTime, 900.0);
+    EXPECT_DOUBLE_EQ(v2.steadyResidence, 0.25);
+    EXPECT_DOUBLE_EQ(v2.steadyTol, 0.01);
+    EXPECT_DOUBLE_EQ(v2.steadyFlowTol, 0.03);
+    EXPECT_DOUBLE_EQ(v2.cellSize, 0.01);
+    EXPECT_DOUBLE_EQ(v1.geometry.bore, 0.10);
+    EXPECT_DOUBLE_EQ(v1.numerics.courantAlphaMin, 0.0);
+    EXPECT_NE(v1.hash(), v2.hash());
+}
+
 TEST(MixerScene, HashFollowsEveryInput) {
     auto a = parse(""), b = parse("");
     b.rpm = 162;

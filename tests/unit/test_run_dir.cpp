@@ -7,6 +7,8 @@
 #include <optional>
 #include <thread>
 
+#include "campaign/driver_lock.hpp"
+#include "run/foam_runner.hpp"
 #include "run/run_dir.hpp"
 
 using namespace mixload;
@@ -34,4 +36,24 @@ TEST(RunDirLock, SecondHolderWaitsForTheFirst) {
     EXPECT_TRUE(fs::exists(dir.parent_path()));
     EXPECT_FALSE(fs::exists(dir.parent_path() / "run.lock"));
     fs::remove_all(dir.parent_path());
+}
+
+// A second driver on the same ledger is refused at once (it would take up the first one's running
+// rows), and the home is free again once the first lets go.
+TEST(DriverLock, SecondDriverIsRefusedWhileTheFirstHolds) {
+    const fs::path home = fs::temp_directory_path() / "mixload-driver-lock-test" / "cal";
+    fs::remove_all(home.parent_path());
+    std::optional<experiments::DriverLock> first(std::in_place, home, "calibrate mixer --name cal");
+    try {
+        const experiments::DriverLock second(home, "calibrate mixer --name cal");
+        ADD_FAILURE() << "the second driver was let in";
+    } catch (const run::RunError& e) {
+        EXPECT_NE(std::string(e.what()).find("another `mixload calibrate mixer --name cal` is driving"),
+                  std::string::npos)
+            << e.what();
+    }
+    first.reset();
+    EXPECT_NO_THROW(experiments::DriverLock(home, "calibrate mixer --name cal"));
+    EXPECT_FALSE(fs::exists(home / "driver.lock"));
+    fs::remove_all(home.parent_path());
 }
