@@ -15,7 +15,7 @@
 #include "app/commands.hpp"
 #include "app/mixer_options.hpp"
 #include "campaign/driver_lock.hpp"
-#include "campaign/ledger.hpp"
+#include "store/ledger.hpp"
 #include "common/atomic_file.hpp"
 #include "common/clock.hpp"
 #include "common/input_error.hpp"
@@ -155,7 +155,7 @@ int create(const CampaignCmd& o) {
                           : experiments::sobol(o.n, static_cast<int>(space.params.size()));
     // Every point becomes a validated scene before the ledger exists: bad input leaves nothing.
     const auto points = pointsOf(space, base, unit);
-    experiments::CampaignInfo info;
+    store::CampaignInfo info;
     info.name = o.name;
     info.scene = space.scene;
     info.sceneJson = base;
@@ -168,7 +168,7 @@ int create(const CampaignCmd& o) {
                                       : std::to_string(base["cells_per_length"].get<int>());
     info.mixloadVersion = kVersion;
     info.gitCommit = kGitCommit;
-    experiments::Ledger ledger(ledgerPath(o));
+    store::Ledger ledger(ledgerPath(o));
     ledger.createCampaign(info, points);
     const nlohmann::json out{{"campaign", o.name}, {"ledger", ledgerPath(o).string()},
                              {"scene", space.scene}, {"design", o.design}, {"points", points.size()},
@@ -185,11 +185,11 @@ int create(const CampaignCmd& o) {
     return 0;
 }
 
-experiments::CampaignInfo openCampaign(const CampaignCmd& o, std::unique_ptr<experiments::Ledger>& l) {
+store::CampaignInfo openCampaign(const CampaignCmd& o, std::unique_ptr<store::Ledger>& l) {
     checkName(o.name);
     if (!fs::exists(ledgerPath(o)))
         throw InputError("name", o.name, "an existing campaign (no " + ledgerPath(o).string() + ")");
-    l = std::make_unique<experiments::Ledger>(ledgerPath(o));
+    l = std::make_unique<store::Ledger>(ledgerPath(o));
     auto c = l->campaign(o.name);
     if (!c) throw InputError("name", o.name, "a campaign recorded in " + ledgerPath(o).string());
     return *c;
@@ -199,7 +199,7 @@ experiments::CampaignInfo openCampaign(const CampaignCmd& o, std::unique_ptr<exp
 // a Latin hypercube is augmented into the strata its points leave free.
 int extend(const CampaignCmd& o) {
     requireRange("n", o.n, 1, 100000);
-    std::unique_ptr<experiments::Ledger> l;
+    std::unique_ptr<store::Ledger> l;
     const auto c = openCampaign(o, l);
     const auto space = experiments::parseRanges(c.rangesToml, o.name + " (ranges recorded in the ledger)");
     const auto runs = l->runs(o.name);
@@ -224,7 +224,7 @@ int extend(const CampaignCmd& o) {
 }
 
 int status(const CampaignCmd& o) {
-    std::unique_ptr<experiments::Ledger> l;
+    std::unique_ptr<store::Ledger> l;
     const auto c = openCampaign(o, l);
     const auto runs = l->runs(o.name);
     double wall = 0, core = 0;
@@ -259,7 +259,7 @@ std::string csvField(const nlohmann::json& v) {
 
 int exportCsv(const CampaignCmd& o) {
     if (o.output.empty()) throw InputError("output", "(missing)", "-o FILE.csv");
-    std::unique_ptr<experiments::Ledger> l;
+    std::unique_ptr<store::Ledger> l;
     const auto c = openCampaign(o, l);
     const auto runs = l->runs(o.name);
     std::set<std::string> params, qois;
@@ -314,7 +314,7 @@ int runCampaign(const CampaignCmd& o) {
     requireRange("jobs", o.jobs, 1, 64);
     requireRange("np", o.np, 1, 256);
     requireRange("max-hours", o.maxHours, 0, 1e5);
-    std::unique_ptr<experiments::Ledger> ledger;
+    std::unique_ptr<store::Ledger> ledger;
     const auto c = openCampaign(o, ledger);
     const fs::path home = fs::path(o.dir) / o.name;
     const experiments::DriverLock lock(home, "campaign run");
@@ -330,7 +330,7 @@ int runCampaign(const CampaignCmd& o) {
     Progress bar("campaign " + o.name, !o.json);
     bar.update(double(finished) / total, std::to_string(finished.load()) + "/" + std::to_string(total));
     const auto worker = [&] {
-        experiments::Ledger l(home / "ledger.sqlite");
+        store::Ledger l(home / "ledger.sqlite");
         for (;;) {
             if (deadline && std::chrono::steady_clock::now() >= *deadline) {
                 stopped = true;
@@ -346,7 +346,7 @@ int runCampaign(const CampaignCmd& o) {
                                                   o.snapshots, home, r->index, deadline, run::runMixer)
                         : runPoint<run::CollapseJob>(collapseSceneFor(c.sceneJson, r->params), retry,
                                                      o.np, o.snapshots, home, r->index, deadline, run::runCollapse);
-                l.markDone(r->id, experiments::runQois(c.scene, res), res.value("wall_seconds", 0.0),
+                l.markDone(r->id, store::runQois(c.scene, res), res.value("wall_seconds", 0.0),
                            res.value("core_seconds", res.value("wall_seconds", 0.0) * o.np),
                            res.value("run_dir", std::string()));
             } catch (const DeadlineReached&) {
@@ -393,7 +393,7 @@ surrogates::Table campaignTable(const std::string& name, const std::string& dir,
     CampaignCmd o;
     o.name = name;
     o.dir = dir;
-    std::unique_ptr<experiments::Ledger> l;
+    std::unique_ptr<store::Ledger> l;
     const auto c = openCampaign(o, l);
     if (c.scene != "mixer") throw InputError("campaign", name, "a mixer campaign (surrogates model the loading)");
     provenance = {{"campaign", name},           {"ledger", ledgerPath(o).string()},

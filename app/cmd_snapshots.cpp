@@ -5,6 +5,7 @@
 
 #include "app/commands.hpp"
 #include "post/snapshots.hpp"
+#include "store/snapshot_file.hpp"
 
 namespace mixload::app {
 
@@ -68,7 +69,7 @@ void addSnapshots(CLI::App& app, Action& action) {
     in->add_flag("--json", o->json, "Print JSON");
     in->callback([&action, o] {
         action = [o] {
-            const auto r = post::snapshotInfo(o->file, !o->noVerify);
+            const auto r = store::SnapshotFile(o->file).info(!o->noVerify);
             if (o->json) {
                 std::cout << r.dump(2) << '\n';
                 return 0;

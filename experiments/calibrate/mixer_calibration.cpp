@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "campaign/driver_lock.hpp"
-#include "campaign/ledger.hpp"
+#include "store/ledger.hpp"
 #include "common/atomic_file.hpp"
 #include "common/clock.hpp"
 #include "common/gnuplot.hpp"
@@ -23,6 +23,11 @@
 namespace mixload::experiments {
 
 namespace fs = std::filesystem;
+
+using store::CampaignInfo;
+using store::Ledger;
+using store::LedgerRun;
+using store::runQois;
 
 namespace {
 

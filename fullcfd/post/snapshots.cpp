@@ -13,7 +13,8 @@
 #include "common/input_error.hpp"
 #include "mixload_version.hpp"
 #include "post/foam_files.hpp"
-#include "post/h5_io.hpp"
+#include "store/h5_io.hpp"
+#include "store/snapshot_file.hpp"
 #include "post/mesh_geometry.hpp"
 #include "post/monitor_history.hpp"
 
@@ -23,9 +24,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr const char* kSchema = "mixload-snapshots";
-
-std::string foamName(const std::string& f) { return f == "alpha" ? "alpha.powder" : f; }
 
 std::string unitOf(const std::string& field) {
     static const std::map<std::string, std::string> units{
@@ -158,7 +156,7 @@ nlohmann::json exportSnapshots(const SnapshotExport& e) {
 
     const auto times = timeDirectories(run);
     std::vector<std::string> names;
-    for (const auto& f : e.fields) names.push_back(foamName(f));
+    for (const auto& f : e.fields) names.push_back(store::storedFieldName(f));
     for (const auto& f : names) {
         bool found = false;
         for (const auto& t : times) found = found || fs::exists(run / t / f);
@@ -193,8 +191,8 @@ nlohmann::json exportSnapshots(const SnapshotExport& e) {
     std::vector<double> timeValues;
     try {
         auto file = h5::createFile(tmp);
-        h5::attr(file, "schema", std::string(kSchema));
-        h5::attr(file, "schema_version", static_cast<long long>(kSnapshotSchemaVersion));
+        h5::attr(file, "schema", std::string(store::kSnapshotSchema));
+        h5::attr(file, "schema_version", static_cast<long long>(store::kSnapshotSchemaVersion));
         h5::attr(file, "mixload_version", std::string(kVersion));
         h5::attr(file, "git_commit", std::string(kGitCommit));
         h5::attr(file, "openfoam_version", std::string(MIXLOAD_OPENFOAM_VERSION));
@@ -303,120 +301,6 @@ nlohmann::json exportSnapshots(const SnapshotExport& e) {
             {"field_precision", e.float64 ? "float64" : "float32"},
             {"mesh_moves", moving},
             {"bytes", fs::file_size(out)}};
-}
-
-namespace {
-
-std::vector<std::string> members(hid_t group) {
-    H5G_info_t info;
-    if (H5Gget_info(group, &info) < 0) throw std::runtime_error("HDF5: cannot list a group");
-    std::vector<std::string> out;
-    for (hsize_t i = 0; i < info.nlinks; ++i) {
-        const ssize_t len = H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0,
-                                               H5P_DEFAULT);
-        std::string name(static_cast<size_t>(std::max<ssize_t>(len, 0)), '\0');
-        H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size() + 1,
-                           H5P_DEFAULT);
-        out.push_back(name);
-    }
-    return out;
-}
-
-nlohmann::json attrsJson(hid_t obj) {
-    nlohmann::json j = nlohmann::json::object();
-    for (const auto& a : h5::attrs(obj)) j[a.name] = a.isString ? nlohmann::json(a.text) : nlohmann::json(a.number);
-    return j;
-}
-
-nlohmann::json datasetJson(hid_t loc, const std::string& path, bool verify) {
-    const auto d = h5::openDataset(loc, path);
-    const h5::Handle type(H5Dget_type(d), H5Tclose);
-    const size_t size = H5Tget_size(type);
-    const char* kind = H5Tget_class(type) == H5T_INTEGER ? "int" : "float";
-    hsize_t n = 1;
-    const auto dims = h5::shape(d);
-    for (auto x : dims) n *= x;
-    if (verify) (void)h5::readDoubles(loc, path);
-    return {{"path", path},
-            {"shape", dims},
-            {"type", std::string(kind) + std::to_string(8 * size)},
-            {"raw_bytes", n * size},
-            {"stored_bytes", H5Dget_storage_size(d)}};
-}
-
-h5::Handle openSnapshots(const fs::path& file) {
-    try {
-        auto f = h5::openFile(file);
-        const auto a = attrsJson(f);
-        if (a.value("schema", std::string()) != kSchema)
-            throw std::runtime_error("not a mixload snapshot file (no schema = " + std::string(kSchema) + ")");
-        const int v = static_cast<int>(a.value("schema_version", 0.0));
-        if (v != kSnapshotSchemaVersion)
-            throw std::runtime_error("snapshot schema version " + std::to_string(v) + ", this mixload reads " +
-                                     std::to_string(kSnapshotSchemaVersion));
-        for (const char* need : {"/time", "/mesh/cell_volumes", "/fields", "/params"})
-            if (!h5::exists(f, need)) throw std::runtime_error(std::string("missing ") + need);
-        return f;
-    } catch (const InputError&) {
-        throw;
-    } catch (const std::exception& ex) {
-        const std::string what = ex.what();
-        throw InputError(what.rfind(file.string(), 0) == 0 ? what : file.string() + ": " + what);
-    }
-}
-
-}  // namespace
-
-nlohmann::json snapshotInfo(const fs::path& file, bool verify) {
-    auto f = openSnapshots(file);
-    try {
-        nlohmann::json j;
-        j["file"] = fs::absolute(file).string();
-        j["bytes"] = fs::file_size(file);
-        j["provenance"] = attrsJson(f);
-        {
-            auto p = h5::openGroup(f, "params");
-            auto params = attrsJson(p);
-            params.erase("scene_json");
-            j["params"] = params;
-        }
-        const auto t = h5::readDoubles(f, "time");
-        j["times"] = {{"count", t.size()},
-                      {"first", t.empty() ? 0.0 : t.front()},
-                      {"last", t.empty() ? 0.0 : t.back()}};
-        j["cells"] = h5::shape(h5::openDataset(f, "/mesh/cell_volumes"))[0];
-        j["faces"] = h5::shape(h5::openDataset(f, "/mesh/owner"))[0];
-        nlohmann::json ds = nlohmann::json::array();
-        for (const char* g : {"mesh", "fields", "history"}) {
-            if (!h5::exists(f, g)) continue;
-            auto grp = h5::openGroup(f, g);
-            for (const auto& m : members(grp)) {
-                const std::string path = std::string("/") + g + "/" + m;
-                H5O_info_t oi;
-                if (H5Oget_info_by_name2(f, path.c_str(), &oi, H5O_INFO_BASIC, H5P_DEFAULT) < 0 ||
-                    oi.type != H5O_TYPE_DATASET)
-                    continue;
-                ds.push_back(datasetJson(f, path, verify));
-            }
-        }
-        ds.push_back(datasetJson(f, "/time", verify));
-        j["datasets"] = ds;
-        j["verified"] = verify;
-        return j;
-    } catch (const std::exception& ex) {
-        throw InputError(file.string() + ": " + ex.what());
-    }
-}
-
-std::vector<double> readSnapshotField(const fs::path& file, const std::string& field, size_t timeIndex) {
-    auto f = openSnapshots(file);
-    const std::string path = "/fields/" + foamName(field);
-    if (!h5::exists(f, path)) throw InputError("field", field, "a field stored in " + file.string());
-    try {
-        return h5::readRow(f, path, timeIndex);
-    } catch (const std::exception& ex) {
-        throw InputError(file.string() + ": " + ex.what());
-    }
 }
 
 }  // namespace mixload::post

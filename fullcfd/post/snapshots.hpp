@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Snapshots: one HDF5 file per run (schema in README, "Snapshots") with an XDMF sidecar for
 // ParaView. Written to a temporary name and renamed, so a file under the final name is complete.
+// Reading them is store/snapshot_file.
 #pragma once
 #include <filesystem>
 #include <string>
@@ -9,8 +10,6 @@
 #include <nlohmann/json.hpp>
 
 namespace mixload::post {
-
-inline constexpr int kSnapshotSchemaVersion = 1;
 
 struct SnapshotExport {
     std::filesystem::path runDir;
@@ -23,14 +22,5 @@ struct SnapshotExport {
 // Exports and returns a summary (file, xdmf, times, cells, fields, bytes). Throws InputError for
 // bad arguments or a directory that is not a run, before anything is written.
 nlohmann::json exportSnapshots(const SnapshotExport& e);
-
-// Provenance, params, time range and every dataset's shape, type and stored size. verify reads
-// every dataset, so a corrupt chunk (checksum) is reported. Throws InputError naming the file if
-// it is not a complete mixload snapshot file.
-nlohmann::json snapshotInfo(const std::filesystem::path& file, bool verify = true);
-
-// One time row of a field as doubles (cells, or cells x 3 flattened).
-std::vector<double> readSnapshotField(const std::filesystem::path& file, const std::string& field,
-                                      size_t timeIndex);
 
 }  // namespace mixload::post

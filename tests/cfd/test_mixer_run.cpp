@@ -14,14 +14,21 @@
 
 #include "cli_harness.hpp"
 #include "post/foam_files.hpp"
-#include "post/h5_io.hpp"
+#include "store/h5_io.hpp"
 #include "post/snapshots.hpp"
+#include "store/snapshot_file.hpp"
 #include "run/foam_runner.hpp"
 
 using namespace mixload::testing;
 namespace fs = std::filesystem;
 
 namespace {
+
+// One stored time of a field, as the tests compare it.
+std::vector<double> storedColumn(const fs::path& file, const std::string& field, size_t t) {
+    const auto c = mixload::store::SnapshotFile(file).column(field, t);
+    return {c.data(), c.data() + c.size()};
+}
 nlohmann::json runMixer(const std::string& name, std::vector<std::string> args) {
     const fs::path out = scratchDir("mixer-" + name) / "run";
     std::vector<std::string> all{"mixer", "--cell-size", "0.01", "--out", out.string(), "--json"};
@@ -83,13 +90,13 @@ TEST(MixerRun, MrfReportsEveryFieldAndBalancesPowder) {
 
     // Snapshots of a binary case: the fields as written (float32), the geometry as OpenFOAM's own.
     const fs::path dir = r["run_dir"].get<std::string>(), h5 = r["snapshots"].get<std::string>();
-    const auto info = mixload::post::snapshotInfo(h5);
+    const auto info = mixload::store::SnapshotFile(h5).info();
     EXPECT_EQ(info["cells"], r["cells"]);
     EXPECT_TRUE(mixload::h5::exists(mixload::h5::openFile(h5), "/loading"));
     const auto mesh = mixload::post::readPolyMesh(dir / "constant" / "polyMesh");
     const auto times = mixload::post::timeDirectories(dir);
     const auto written = mixload::post::readInternalField(dir / times.back() / "alpha.powder", mesh.nCells);
-    const auto stored = mixload::post::readSnapshotField(h5, "alpha", info["times"]["count"].get<size_t>() - 1);
+    const auto stored = storedColumn(h5, "alpha", info["times"]["count"].get<size_t>() - 1);
     ASSERT_EQ(stored.size(), written.values.size());
     for (size_t i = 0; i < stored.size(); ++i)
         ASSERT_NEAR(stored[i], written.values[i], 1e-7 * std::abs(written.values[i]) + 1e-37);
@@ -156,7 +163,7 @@ TEST(MixerRun, SmZoneTurnsAsASolidBody) {
 
     // The snapshots follow the moving cells.
     const fs::path h5 = r["snapshots"].get<std::string>();
-    const auto info = mixload::post::snapshotInfo(h5);
+    const auto info = mixload::store::SnapshotFile(h5).info();
     EXPECT_EQ(info["provenance"]["mesh_moves"].get<double>(), 1.0);
     auto file = mixload::h5::openFile(h5);
     const auto c0 = mixload::h5::readDoubles(file, "/mesh/cell_centres");

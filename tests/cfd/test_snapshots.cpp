@@ -13,8 +13,9 @@
 #include "cli_harness.hpp"
 #include "common/atomic_file.hpp"
 #include "post/foam_files.hpp"
-#include "post/h5_io.hpp"
+#include "store/h5_io.hpp"
 #include "post/snapshots.hpp"
+#include "store/snapshot_file.hpp"
 #include "run/foam_runner.hpp"
 
 using namespace mixload::testing;
@@ -22,6 +23,12 @@ namespace fs = std::filesystem;
 namespace post = mixload::post;
 
 namespace {
+
+// One stored time of a field, as the tests compare it.
+std::vector<double> storedColumn(const fs::path& file, const std::string& field, size_t t) {
+    const auto c = mixload::store::SnapshotFile(file).column(field, t);
+    return {c.data(), c.data() + c.size()};
+}
 
 // One tiny collapse (940 cells, ~3 s) with --snapshots, shared by the tests of this file.
 fs::path collapseRun() {
@@ -61,7 +68,7 @@ TEST(Snapshots, CollapseRoundTripsEveryWrittenTime) {
     const fs::path h5 = run / "snapshots.h5";
     const auto times = timesWith(run, {"alpha.powder", "U", "p"});
     ASSERT_GT(times.size(), 5u);
-    const auto info = post::snapshotInfo(h5);
+    const auto info = mixload::store::SnapshotFile(h5).info();
     EXPECT_EQ(info["times"]["count"], times.size());
     EXPECT_EQ(info["cells"], 940);
     EXPECT_EQ(info["provenance"]["schema"], "mixload-snapshots");
@@ -72,13 +79,13 @@ TEST(Snapshots, CollapseRoundTripsEveryWrittenTime) {
     const auto mesh = post::readPolyMesh(run / "constant" / "polyMesh");
     for (size_t i : {size_t(0), times.size() / 2, times.size() - 1}) {
         for (const char* f : {"alpha.powder", "U", "p"})
-            expectSameField(post::readSnapshotField(h5, f, i),
+            expectSameField(storedColumn(h5, f, i),
                             post::readInternalField(run / times[i] / f, mesh.nCells).values);
     }
     // Powder volume from the file equals the run's own: alpha x V summed.
     auto file = mixload::h5::openFile(h5);
     const auto v = mixload::h5::readDoubles(file, "/mesh/cell_volumes");
-    const auto a0 = post::readSnapshotField(h5, "alpha", 0), a1 = post::readSnapshotField(h5, "alpha", times.size() - 1);
+    const auto a0 = storedColumn(h5, "alpha", 0), a1 = storedColumn(h5, "alpha", times.size() - 1);
     double m0 = 0, m1 = 0;
     for (size_t c = 0; c < v.size(); ++c) m0 += a0[c] * v[c], m1 += a1[c] * v[c];
     EXPECT_NEAR(m1, m0, 1e-3 * m0);
@@ -122,7 +129,7 @@ TEST(Snapshots, XdmfReferencesExistingDatasetsWithTheirShapes) {
         EXPECT_EQ(m[1].str(), dims) << m[3];
         ++refs;
     }
-    const auto times = post::snapshotInfo(run / "snapshots.h5", false)["times"]["count"].get<size_t>();
+    const auto times = mixload::store::SnapshotFile(run / "snapshots.h5").info(false)["times"]["count"].get<size_t>();
     EXPECT_EQ(refs, times * 5);  // centres, volumes, alpha, U, p per time
     EXPECT_EQ(std::count(xmf.begin(), xmf.end(), '\n') > 10, true);
 }
@@ -166,7 +173,7 @@ TEST(Snapshots, ExportOptionsAndBadInput) {
     EXPECT_TRUE(fs::exists(dir / "every3.xmf"));
     // float64 is exact.
     const auto mesh = post::readPolyMesh(run / "constant" / "polyMesh");
-    EXPECT_EQ(post::readSnapshotField(out, "p_rgh", j["times"].get<size_t>() - 1),
+    EXPECT_EQ(storedColumn(out, "p_rgh", j["times"].get<size_t>() - 1),
               post::readInternalField(run / all.back() / "p_rgh", mesh.nCells).values);
 
     const auto rejected = [&](std::vector<std::string> args, const std::string& needle) {

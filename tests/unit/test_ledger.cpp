@@ -9,9 +9,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "campaign/ledger.hpp"
+#include "store/ledger.hpp"
 
-using namespace mixload::experiments;
+using namespace mixload::store;
 namespace fs = std::filesystem;
 
 namespace {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "post/h5_io.hpp"
+#include "store/h5_io.hpp"
 
 #include <algorithm>
 #include <cstring>

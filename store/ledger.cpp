@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "campaign/ledger.hpp"
+#include "store/ledger.hpp"
 
 #include <stdexcept>
 
@@ -7,7 +7,7 @@
 
 #include "common/clock.hpp"
 
-namespace mixload::experiments {
+namespace mixload::store {
 
 namespace {
 
@@ -299,4 +299,4 @@ bool Ledger::integrityOk() const {
     return s.step() && s.text(0) == "ok";
 }
 
-}  // namespace mixload::experiments
+}  // namespace mixload::store

@@ -14,7 +14,7 @@
 
 struct sqlite3;
 
-namespace mixload::experiments {
+namespace mixload::store {
 
 struct CampaignInfo {
     std::string name, scene, sceneHash, design, method, mesh, created, mixloadVersion, gitCommit;
@@ -79,4 +79,4 @@ private:
     sqlite3* db_ = nullptr;
 };
 
-}  // namespace mixload::experiments
+}  // namespace mixload::store

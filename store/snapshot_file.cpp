@@ -1,0 +1,193 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "store/snapshot_file.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+#include "common/hash.hpp"
+#include "common/input_error.hpp"
+
+namespace mixload::store {
+
+namespace fs = std::filesystem;
+
+std::string storedFieldName(const std::string& field) { return field == "alpha" ? "alpha.powder" : field; }
+
+namespace {
+
+std::vector<std::string> members(hid_t group) {
+    H5G_info_t info;
+    if (H5Gget_info(group, &info) < 0) throw std::runtime_error("HDF5: cannot list a group");
+    std::vector<std::string> out;
+    for (hsize_t i = 0; i < info.nlinks; ++i) {
+        const ssize_t len = H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0,
+                                               H5P_DEFAULT);
+        std::string name(static_cast<size_t>(std::max<ssize_t>(len, 0)), '\0');
+        H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size() + 1,
+                           H5P_DEFAULT);
+        out.push_back(name);
+    }
+    return out;
+}
+
+nlohmann::json attrsJson(hid_t obj) {
+    nlohmann::json j = nlohmann::json::object();
+    for (const auto& a : h5::attrs(obj)) j[a.name] = a.isString ? nlohmann::json(a.text) : nlohmann::json(a.number);
+    return j;
+}
+
+nlohmann::json datasetJson(hid_t loc, const std::string& path, bool verify) {
+    const auto d = h5::openDataset(loc, path);
+    const h5::Handle type(H5Dget_type(d), H5Tclose);
+    const size_t size = H5Tget_size(type);
+    const char* kind = H5Tget_class(type) == H5T_INTEGER ? "int" : "float";
+    hsize_t n = 1;
+    const auto dims = h5::shape(d);
+    for (auto x : dims) n *= x;
+    if (verify) (void)h5::readDoubles(loc, path);
+    return {{"path", path},
+            {"shape", dims},
+            {"type", std::string(kind) + std::to_string(8 * size)},
+            {"raw_bytes", n * size},
+            {"stored_bytes", H5Dget_storage_size(d)}};
+}
+
+// Errors from here on name the file once.
+template <class F>
+auto named(const fs::path& file, F&& f) -> decltype(f()) {
+    try {
+        return f();
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::exception& ex) {
+        const std::string what = ex.what();
+        throw InputError(what.rfind(file.string(), 0) == 0 ? what : file.string() + ": " + what);
+    }
+}
+
+std::string bytesOf(const std::vector<double>& v) {
+    return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(double));
+}
+std::string bytesOf(const std::vector<int32_t>& v) {
+    return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(int32_t));
+}
+
+}  // namespace
+
+SnapshotFile::SnapshotFile(const fs::path& file) : path_(file) {
+    named(file, [&] {
+        file_ = h5::openFile(file);
+        const auto a = attrsJson(file_);
+        if (a.value("schema", std::string()) != kSnapshotSchema)
+            throw std::runtime_error("not a mixload snapshot file (no schema = " + std::string(kSnapshotSchema) + ")");
+        const int v = static_cast<int>(a.value("schema_version", 0.0));
+        if (v != kSnapshotSchemaVersion)
+            throw std::runtime_error("snapshot schema version " + std::to_string(v) + ", this mixload reads " +
+                                     std::to_string(kSnapshotSchemaVersion));
+        for (const char* need : {"/time", "/mesh/cell_volumes", "/mesh/owner", "/fields", "/params"})
+            if (!h5::exists(file_, need)) throw std::runtime_error(std::string("missing ") + need);
+        times_ = h5::readDoubles(file_, "time");
+        const auto vol = h5::readDoubles(file_, "/mesh/cell_volumes");
+        volumes_ = Eigen::Map<const Eigen::VectorXd>(vol.data(), static_cast<Eigen::Index>(vol.size()));
+        std::string key = bytesOf(vol) + bytesOf(h5::readInts(file_, "/mesh/owner"));
+        if (h5::exists(file_, "/mesh/neighbour")) key += bytesOf(h5::readInts(file_, "/mesh/neighbour"));
+        fingerprint_ = stableHash(key);
+        return 0;
+    });
+}
+
+nlohmann::json SnapshotFile::provenance() const { return attrsJson(file_); }
+
+nlohmann::json SnapshotFile::params() const {
+    return named(path_, [&] {
+        auto p = attrsJson(h5::openGroup(file_, "params"));
+        p.erase("scene_json");
+        return p;
+    });
+}
+
+std::vector<std::string> SnapshotFile::fields() const {
+    return named(path_, [&] {
+        std::vector<std::string> out;
+        for (const auto& m : members(h5::openGroup(file_, "fields")))
+            if (m != "cell_centres") out.push_back(m);
+        return out;
+    });
+}
+
+int SnapshotFile::components(const std::string& field) const {
+    const std::string path = "/fields/" + storedFieldName(field);
+    if (!h5::exists(file_, path)) throw InputError("field", field, "a field stored in " + path_.string());
+    return named(path_, [&] {
+        const auto dims = h5::shape(h5::openDataset(file_, path));
+        return dims.size() == 3 ? static_cast<int>(dims[2]) : 1;
+    });
+}
+
+Eigen::VectorXd SnapshotFile::column(const std::string& field, size_t timeIndex) const {
+    (void)components(field);  // names the field if it is missing
+    if (timeIndex >= times_.size())
+        throw InputError("time index", std::to_string(timeIndex), "0.." + std::to_string(times_.size() - 1));
+    return named(path_, [&] {
+        const auto row = h5::readRow(file_, "/fields/" + storedFieldName(field), timeIndex);
+        return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(row.data(), static_cast<Eigen::Index>(row.size())));
+    });
+}
+
+Eigen::MatrixXd SnapshotFile::matrix(const std::string& field, const std::vector<size_t>& timeIndices) const {
+    std::vector<size_t> idx = timeIndices;
+    if (idx.empty())
+        for (size_t t = 0; t < times_.size(); ++t) idx.push_back(t);
+    Eigen::MatrixXd m(static_cast<Eigen::Index>(cells() * components(field)), static_cast<Eigen::Index>(idx.size()));
+    for (size_t j = 0; j < idx.size(); ++j) m.col(static_cast<Eigen::Index>(j)) = column(field, idx[j]);
+    return m;
+}
+
+nlohmann::json SnapshotFile::info(bool verify) const {
+    return named(path_, [&] {
+        nlohmann::json j;
+        j["file"] = fs::absolute(path_).string();
+        j["bytes"] = fs::file_size(path_);
+        j["provenance"] = provenance();
+        j["params"] = params();
+        j["times"] = {{"count", times_.size()},
+                      {"first", times_.empty() ? 0.0 : times_.front()},
+                      {"last", times_.empty() ? 0.0 : times_.back()}};
+        j["cells"] = cells();
+        j["faces"] = h5::shape(h5::openDataset(file_, "/mesh/owner"))[0];
+        j["mesh_fingerprint"] = fingerprint_;
+        nlohmann::json ds = nlohmann::json::array();
+        for (const char* g : {"mesh", "fields", "history"}) {
+            if (!h5::exists(file_, g)) continue;
+            auto grp = h5::openGroup(file_, g);
+            for (const auto& m : members(grp)) {
+                const std::string path = std::string("/") + g + "/" + m;
+                H5O_info_t oi;
+                if (H5Oget_info_by_name2(file_, path.c_str(), &oi, H5O_INFO_BASIC, H5P_DEFAULT) < 0 ||
+                    oi.type != H5O_TYPE_DATASET)
+                    continue;
+                ds.push_back(datasetJson(file_, path, verify));
+            }
+        }
+        ds.push_back(datasetJson(file_, "/time", verify));
+        j["datasets"] = ds;
+        j["verified"] = verify;
+        return j;
+    });
+}
+
+SnapshotSet::SnapshotSet(const std::vector<fs::path>& files) {
+    if (files.empty()) throw InputError("snapshots", "(none)", "at least one snapshot file");
+    for (const auto& f : files) {
+        files_.emplace_back(f);
+        const auto& s = files_.back();
+        if (s.meshFingerprint() != files_.front().meshFingerprint())
+            throw InputError("snapshots", f.string(),
+                             "files of one mesh (" + std::to_string(s.cells()) + " cells here, " +
+                                 std::to_string(files_.front().cells()) + " in " + files.front().string() +
+                                 "; or the same count on other cells)");
+        columns_ += s.times().size();
+    }
+}
+
+}  // namespace mixload::store

@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Reading mixload snapshot files (schema in README, "Snapshots"): one file opened and checked once,
+// and a set of files that share one mesh, read one file at a time so that a snapshot matrix never
+// has to sit in memory whole. The writer is fullcfd/post/snapshots (it needs the OpenFOAM case).
+#pragma once
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <nlohmann/json.hpp>
+
+#include "store/h5_io.hpp"
+
+namespace mixload::store {
+
+inline constexpr const char* kSnapshotSchema = "mixload-snapshots";
+inline constexpr int kSnapshotSchemaVersion = 1;
+
+// "alpha" is the powder fraction, stored under OpenFOAM's name.
+std::string storedFieldName(const std::string& field);
+
+class SnapshotFile {
+public:
+    // Checks schema, version and the groups every reader needs; throws InputError naming the file
+    // (truncated, corrupt, another schema or version).
+    explicit SnapshotFile(const std::filesystem::path& file);
+
+    const std::filesystem::path& path() const { return path_; }
+    const std::vector<double>& times() const { return times_; }
+    size_t cells() const { return static_cast<size_t>(volumes_.size()); }
+    const Eigen::VectorXd& cellVolumes() const { return volumes_; }
+    // Same cells, faces and volumes: files of one mesh (bitwise, as mixload writes them).
+    const std::string& meshFingerprint() const { return fingerprint_; }
+    nlohmann::json provenance() const;
+    nlohmann::json params() const;  // every scene input (without the verbatim scene_json)
+    std::vector<std::string> fields() const;
+    int components(const std::string& field) const;  // 1 (scalar) or 3 (vector)
+    // One time as a column: cells (scalar) or 3 x cells, the components of a cell together.
+    Eigen::VectorXd column(const std::string& field, size_t timeIndex) const;
+    // Every time (or the given ones) as columns.
+    Eigen::MatrixXd matrix(const std::string& field, const std::vector<size_t>& timeIndices = {}) const;
+    // Provenance, params, time range and every dataset's shape, type and stored size; verify reads
+    // every dataset, so a corrupt chunk (checksum) is reported.
+    nlohmann::json info(bool verify = true) const;
+
+private:
+    std::filesystem::path path_;
+    h5::Handle file_;
+    std::vector<double> times_;
+    Eigen::VectorXd volumes_;
+    std::string fingerprint_;
+};
+
+// Snapshot files of one mesh, in order. Columns are numbered file by file, time by time.
+class SnapshotSet {
+public:
+    // Throws InputError naming the first file whose mesh differs from the first file's.
+    explicit SnapshotSet(const std::vector<std::filesystem::path>& files);
+
+    size_t columns() const { return columns_; }
+    size_t cells() const { return files_.front().cells(); }
+    const Eigen::VectorXd& cellVolumes() const { return files_.front().cellVolumes(); }
+    const std::vector<SnapshotFile>& files() const { return files_; }
+    int components(const std::string& field) const { return files_.front().components(field); }
+    // The field's columns of file i (one file in memory at a time).
+    Eigen::MatrixXd block(const std::string& field, size_t i) const { return files_.at(i).matrix(field); }
+
+private:
+    std::vector<SnapshotFile> files_;
+    size_t columns_ = 0;
+};
+
+}  // namespace mixload::store
