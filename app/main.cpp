@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
     mixload::app::addCollapse(app, action);
     mixload::app::addMixer(app, action);
     mixload::app::addSnapshots(app, action);
+    mixload::app::addRom(app, action);
     mixload::app::addPredict(app, action);
     mixload::app::addSurrogate(app, action);
     mixload::app::addBench(app, action);

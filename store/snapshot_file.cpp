@@ -6,6 +6,7 @@
 
 #include "common/hash.hpp"
 #include "common/input_error.hpp"
+#include "store/ledger.hpp"
 
 namespace mixload::store {
 
@@ -188,6 +189,19 @@ SnapshotSet::SnapshotSet(const std::vector<fs::path>& files) {
                                  "; or the same count on other cells)");
         columns_ += s.times().size();
     }
+}
+
+std::vector<fs::path> campaignSnapshotFiles(const fs::path& ledger, const std::string& campaign) {
+    if (!fs::exists(ledger)) throw InputError("dir", ledger.parent_path().string(), "a campaign directory with a ledger.sqlite");
+    Ledger l(ledger);
+    if (!l.campaign(campaign)) throw InputError("campaign", campaign, "a campaign of " + ledger.string());
+    std::vector<fs::path> out;
+    for (const auto& r : l.runs(campaign))
+        if (r.status == "done" && fs::exists(fs::path(r.runDir) / "snapshots.h5"))
+            out.push_back(fs::path(r.runDir) / "snapshots.h5");
+    if (out.empty())
+        throw InputError("campaign", campaign, "a campaign whose finished runs kept snapshots (campaign run --snapshots)");
+    return out;
 }
 
 }  // namespace mixload::store

@@ -73,4 +73,9 @@ private:
     size_t columns_ = 0;
 };
 
+// The snapshot files of a campaign's finished runs (<run dir>/snapshots.h5, in design order).
+// Throws InputError when the ledger has no such campaign or none of its runs kept snapshots.
+std::vector<std::filesystem::path> campaignSnapshotFiles(const std::filesystem::path& ledger,
+                                                         const std::string& campaign);
+
 }  // namespace mixload::store

@@ -1,0 +1,145 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// `mixload rom`: reduced-order models on stored snapshots. `rom pod` builds a POD basis.
+#include <sys/resource.h>
+
+#include <chrono>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "app/commands.hpp"
+#include "common/atomic_file.hpp"
+#include "common/gnuplot.hpp"
+#include "common/input_error.hpp"
+#include "rom/pod_model.hpp"
+#include "store/snapshot_file.hpp"
+
+namespace mixload::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+struct PodCmd {
+    std::vector<std::string> files, fields{"alpha"};
+    std::string campaign, dir = "runs/campaigns", output;
+    int modes = 0;
+    double energy = 0.9999;
+    bool noMean = false, json = false;
+};
+
+double peakRssBytes() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return 1024.0 * static_cast<double>(u.ru_maxrss);
+}
+
+// The spectrum beside the basis: lambda_k / sum(lambda) and the energy left out after k modes.
+std::string plotSpectrum(const rom::PodModel& m, const fs::path& out) {
+    const auto& l = m.basis.eigenvalues;
+    const double total = l.sum();
+    std::ostringstream dat;
+    double left = total;
+    for (Eigen::Index k = 0; k < l.size(); ++k) {
+        left -= l[k];
+        // Below round-off a share is noise: not drawn.
+        const auto share = [](double v) {
+            std::ostringstream os;
+            os << std::setprecision(10) << v;
+            return v > 1e-15 ? os.str() : std::string("NaN");
+        };
+        dat << k + 1 << ' ' << share(l[k] / total) << ' ' << share(left / total) << '\n';
+    }
+    const fs::path dir = fs::absolute(out).parent_path();
+    const std::string stem = out.stem().string();
+    writeFileAtomic(dir / (stem + ".spectrum.dat"), dat.str());
+    std::ostringstream gp;
+    gp << "set terminal pngcairo size 800,560\nset output '" << stem << ".spectrum.png'\n"
+       << "set datafile missing 'NaN'\nset logscale y\nset format y '10^{%L}'\nset xlabel 'mode k'\nset ylabel 'share of the fluctuation energy'\n"
+       << "set title 'POD of " << m.basis.snapshots << " snapshots (" << fs::path(out).filename().string()
+       << "): " << m.basis.modes.cols() << " modes kept'\nset grid\nset key top right\n"
+       << "set arrow from " << m.basis.modes.cols() + 0.5 << ", graph 0 to " << m.basis.modes.cols() + 0.5
+       << ", graph 1 nohead dt 2\n"
+       << "plot '" << stem << ".spectrum.dat' u 1:2 w lp pt 7 ps 0.6 t 'lambda_k / sum lambda', '' u 1:3 w l lw 2 t "
+          "'left out after k modes'\n";
+    return runGnuplot(dir, stem + ".spectrum.gp", gp.str());
+}
+}  // namespace
+
+void addRom(CLI::App& app, Action& action) {
+    auto* cmd = app.add_subcommand("rom", "Reduced-order models on stored snapshots (POD; see README, Reduced models)");
+    cmd->require_subcommand(1);
+    auto o = std::make_shared<PodCmd>();
+    auto* pod = cmd->add_subcommand(
+        "pod", "POD basis (method of snapshots, cell-volume weights) of snapshot files of one mesh, written to HDF5");
+    pod->add_option("FILES", o->files, "Snapshot files (mixload snapshots export, or runs with --snapshots)");
+    pod->add_option("--campaign", o->campaign, "Use the snapshot files of this campaign's finished runs instead");
+    pod->add_option("--dir", o->dir, "Campaign directory (with --campaign)")->capture_default_str();
+    pod->add_option("--field", o->fields, "Stored field(s): one gives its own basis, several a coupled one (each "
+                                          "field weighted by its fluctuation energy); repeatable")
+        ->capture_default_str();
+    pod->add_option("--modes", o->modes, "At most this many modes (0: as --energy says)")->capture_default_str();
+    pod->add_option("--energy", o->energy, "Keep the fewest modes holding this share of the fluctuation energy, in (0, 1]")
+        ->capture_default_str();
+    pod->add_flag("--no-mean", o->noMean, "Do not subtract the snapshots' mean");
+    pod->add_option("-o,--output", o->output, "Basis file (.h5); a spectrum PNG is written beside it")->required();
+    pod->add_flag("--json", o->json, "Print the summary as JSON");
+    pod->callback([&action, o] {
+        action = [o] {
+            if (o->files.empty() == o->campaign.empty())
+                throw InputError("FILES", o->files.empty() ? "(none)" : "with --campaign",
+                                 "snapshot files or --campaign NAME, not both");
+            const auto files = o->campaign.empty()
+                                   ? std::vector<fs::path>(o->files.begin(), o->files.end())
+                                   : store::campaignSnapshotFiles(fs::path(o->dir) / o->campaign / "ledger.sqlite",
+                                                                  o->campaign);
+            rom::PodOptions opt;
+            opt.maxModes = o->modes;
+            opt.energy = o->energy;
+            opt.subtractMean = !o->noMean;
+            requireRange("energy", o->energy, 0.0, 1.0, false, true);
+            requireRange("modes", o->modes, 0, 1e6);
+            const auto t0 = std::chrono::steady_clock::now();
+            const store::SnapshotSet set(files);
+            const auto m = rom::buildPod(set, o->fields, opt);
+            rom::writePod(m, o->output);
+            const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            const std::string warn = plotSpectrum(m, o->output);
+            const auto& b = m.basis;
+            std::vector<double> spectrum;
+            for (Eigen::Index k = 0; k < std::min<Eigen::Index>(b.eigenvalues.size(), 20); ++k)
+                spectrum.push_back(b.eigenvalues[k] / b.totalEnergy());
+            nlohmann::json j{{"file", fs::absolute(o->output).string()},
+                             {"spectrum_png", (fs::absolute(o->output).parent_path() / (fs::path(o->output).stem().string() + ".spectrum.png")).string()},
+                             {"fields", m.fields},
+                             {"files", set.files().size()},
+                             {"snapshots", b.snapshots},
+                             {"cells", m.cells},
+                             {"rows", b.weights.size()},
+                             {"modes", b.modes.cols()},
+                             {"energy_kept", b.keptEnergy()},
+                             {"energy_target", o->energy},
+                             {"orthonormality_error", b.orthonormalityError()},
+                             {"spectrum_head", spectrum},
+                             {"working_set_bytes", b.peakBytes},
+                             {"peak_rss_bytes", peakRssBytes()},
+                             {"wall_seconds", wall}};
+            if (!warn.empty()) j["warning"] = warn;
+            if (o->json) {
+                std::cout << j.dump(2) << '\n';
+                return 0;
+            }
+            std::cout << "POD " << j["file"].get<std::string>() << ": " << b.modes.cols() << " modes of "
+                      << b.snapshots << " snapshots (" << set.files().size() << " files, " << m.cells << " cells, fields";
+            for (const auto& f : m.fields) std::cout << ' ' << f;
+            std::cout << ")\n  energy kept " << std::setprecision(8) << b.keptEnergy() << " (target " << o->energy
+                      << "), modes orthonormal to " << std::setprecision(2) << b.orthonormalityError()
+                      << "\n  working set " << std::setprecision(3) << b.peakBytes / 1e6 << " MB, peak RSS "
+                      << peakRssBytes() / 1e6 << " MB, " << wall << " s\n  spectrum: "
+                      << j["spectrum_png"].get<std::string>() << '\n';
+            if (!warn.empty()) std::cout << "  warning: " << warn << '\n';
+            return 0;
+        };
+    });
+}
+
+}  // namespace mixload::app

@@ -1,0 +1,130 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// POD by the method of snapshots on synthetic snapshots: exact on low-rank data, the same whether
+// the snapshots arrive in one block or several, the left-out energy equal to the projection error,
+// coupled fields weighted by their energy, bad input refused.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "rom/pod.hpp"
+
+using namespace mixload::rom;
+
+namespace {
+// rows x n snapshots: mean + rank-r part + noise, with positive weights.
+struct Data {
+    Eigen::MatrixXd x;
+    Eigen::VectorXd w;
+};
+
+Data synthetic(Eigen::Index rows, Eigen::Index n, Eigen::Index rank, double noise, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> g;
+    const auto rnd = [&](Eigen::Index r, Eigen::Index c) {
+        return Eigen::MatrixXd(Eigen::MatrixXd::NullaryExpr(r, c, [&] { return g(rng); }));
+    };
+    Data d;
+    const Eigen::VectorXd mean = rnd(rows, 1);
+    d.x = (rnd(rows, rank) * rnd(rank, n)).colwise() + mean;
+    d.x += noise * rnd(rows, n);
+    d.w = rnd(rows, 1).cwiseAbs().array() + 0.1;
+    return d;
+}
+
+PodBasis podInBlocks(const Data& d, const std::vector<Eigen::Index>& sizes, const PodOptions& o) {
+    std::vector<Eigen::Index> at{0};
+    for (auto s : sizes) at.push_back(at.back() + s);
+    return computePod(
+        sizes.size(), [&](size_t i) { return Eigen::MatrixXd(d.x.middleCols(at[i], sizes[i])); }, d.w, o);
+}
+
+double weightedNorm2(const Eigen::VectorXd& v, const Eigen::VectorXd& w) { return v.cwiseProduct(v).dot(w); }
+}  // namespace
+
+TEST(Pod, ExactOnLowRankSnapshots) {
+    const auto d = synthetic(200, 16, 4, 0.0, 1);
+    PodOptions o;
+    o.energy = 1.0;
+    const auto b = podInBlocks(d, {5, 7, 4}, o);
+    EXPECT_EQ(b.snapshots, 16u);
+    EXPECT_EQ(b.modes.cols(), 4) << "a rank-4 fluctuation needs 4 modes";
+    EXPECT_LT(b.eigenvalues.tail(12).maxCoeff(), 1e-12 * b.eigenvalues[0]);
+    EXPECT_LT(b.orthonormalityError(), 1e-12);
+    for (Eigen::Index j = 0; j < d.x.cols(); ++j) {
+        const Eigen::VectorXd u = d.x.col(j);
+        EXPECT_LT((b.reconstruct(b.project(u)) - u).norm(), 1e-10 * u.norm()) << "snapshot " << j;
+        EXPECT_LT((b.project(u) - b.coefficients.row(j).transpose()).norm(), 1e-10 * b.project(u).norm());
+    }
+}
+
+TEST(Pod, BlocksDoNotChangeTheBasis) {
+    const auto d = synthetic(150, 12, 12, 0.0, 2);
+    PodOptions o;
+    o.maxModes = 6;
+    const auto one = podInBlocks(d, {12}, o), three = podInBlocks(d, {3, 4, 5}, o);
+    ASSERT_EQ(one.modes.cols(), three.modes.cols());
+    EXPECT_LT((one.eigenvalues - three.eigenvalues).norm(), 1e-10 * one.eigenvalues.norm());
+    // Modes are defined up to sign.
+    for (Eigen::Index k = 0; k < one.modes.cols(); ++k) {
+        const double s = one.modes.col(k).dot(three.modes.col(k)) > 0 ? 1 : -1;
+        EXPECT_LT((one.modes.col(k) - s * three.modes.col(k)).norm(), 1e-8 * one.modes.col(k).norm()) << k;
+    }
+    // Two blocks are held at a time, not all of them.
+    EXPECT_LT(three.peakBytes, one.peakBytes);
+}
+
+TEST(Pod, LeftOutEnergyIsTheProjectionError) {
+    const auto d = synthetic(300, 20, 20, 0.0, 3);
+    for (int k : {1, 5, 12}) {
+        PodOptions o;
+        o.maxModes = k;
+        o.energy = 1.0;
+        const auto b = podInBlocks(d, {7, 7, 6}, o);
+        ASSERT_EQ(b.modes.cols(), k);
+        double err = 0;
+        for (Eigen::Index j = 0; j < d.x.cols(); ++j) {
+            const Eigen::VectorXd u = d.x.col(j);
+            err += weightedNorm2(u - b.reconstruct(b.project(u)), b.weights);
+        }
+        const double left = b.eigenvalues.tail(b.eigenvalues.size() - k).sum();
+        EXPECT_NEAR(err, left, 1e-9 * b.totalEnergy()) << k << " modes";
+        EXPECT_NEAR(b.keptEnergy(), 1 - left / b.totalEnergy(), 1e-12);
+    }
+}
+
+TEST(Pod, EnergyTargetPicksTheFewestModes) {
+    const auto d = synthetic(100, 15, 15, 0.0, 4);
+    PodOptions o;
+    o.energy = 0.9;
+    const auto b = podInBlocks(d, {15}, o);
+    EXPECT_GE(b.keptEnergy(), 0.9);
+    const auto k = b.modes.cols();
+    EXPECT_LT(b.eigenvalues.head(k - 1).sum() / b.totalEnergy(), 0.9);
+}
+
+TEST(Pod, CoupledFieldsCarryTheSameEnergy) {
+    // Two fields whose scales differ by 1e3: uncoupled weights would let the large one take every mode.
+    auto d = synthetic(120, 10, 10, 0.0, 5);
+    d.x.bottomRows(60) *= 1e3;
+    PodOptions o;
+    o.energy = 1.0;
+    o.fieldStarts = {0, 60};
+    const auto b = podInBlocks(d, {10}, o);
+    ASSERT_EQ(b.fieldScales.size(), 2u);
+    EXPECT_NEAR(b.fieldScales[1] / b.fieldScales[0], 1e6, 2e5);
+    double e0 = 0, e1 = 0;
+    for (Eigen::Index j = 0; j < d.x.cols(); ++j) {
+        const Eigen::VectorXd f = d.x.col(j) - b.mean;
+        e0 += weightedNorm2(f.head(60), b.weights.head(60));
+        e1 += weightedNorm2(f.tail(60), b.weights.tail(60));
+    }
+    EXPECT_NEAR(e0, 1.0, 1e-10);
+    EXPECT_NEAR(e1, 1.0, 1e-10);
+}
+
+TEST(Pod, BadInputIsRefused) {
+    const auto d = synthetic(10, 4, 2, 0.0, 6);
+    EXPECT_THROW(computePod(0, [&](size_t) { return d.x; }, d.w, {}), std::invalid_argument);
+    EXPECT_THROW(computePod(1, [&](size_t) { return Eigen::MatrixXd(d.x.topRows(5)); }, d.w, {}),
+                 std::invalid_argument);
+}
