@@ -1,422 +1,88 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// `mixload campaign`: offline full-CFD campaigns over a design of experiments, recorded in a
-// SQLite ledger under <dir>/<name>/ledger.sqlite.
+// `mixload campaign`: parses, calls experiments/campaign, prints.
 
-#include <atomic>
-#include <chrono>
 #include <iostream>
-#include <mutex>
-#include <regex>
-#include <thread>
-#include <set>
-#include <sstream>
 
-#include "app/collapse_options.hpp"
 #include "app/commands.hpp"
-#include "app/mixer_options.hpp"
-#include "campaign/driver_lock.hpp"
-#include "store/ledger.hpp"
-#include "common/atomic_file.hpp"
-#include "common/clock.hpp"
+#include "campaign/campaign.hpp"
 #include "common/input_error.hpp"
-#include "common/process.hpp"
-#include "common/progress.hpp"
-#include "doe/designs.hpp"
-#include "doe/parameter_space.hpp"
-#include "app/campaign_table.hpp"
-#include "mixload_version.hpp"
-#include "run/collapse_job.hpp"
-#include "run/foam_runner.hpp"
-#include "run/mixer_job.hpp"
 
 namespace mixload::app {
-
-namespace fs = std::filesystem;
 
 namespace {
 
 struct CampaignCmd {
-    std::string name, ranges, design = "lhs", scene, method = "mrf", mesh, dir = "runs/campaigns",
-                output;
-    int n = 0;
-    long long seed = 1;
-    int jobs = 1, np = 1;
-    double maxHours = 0;
-    std::optional<double> cellSize, endTime, initialLoadingKg, steadyTol, steadyFlowTol;
-    std::string mesher = "ogrid";
-    double steadyResidence = scene::MixerScene{}.steadyResidence;
-    std::string numerics = scene::MixerScene{}.numerics.preset;
-    bool json = false, snapshots = false;
+    experiments::CampaignSpec spec;
+    std::string output;
+    experiments::CampaignRunOptions run;
+    bool json = false;
     std::string checkModel;
 };
 
-fs::path ledgerPath(const CampaignCmd& o) { return fs::path(o.dir) / o.name / "ledger.sqlite"; }
-
-void checkName(const std::string& name) {
-    if (!std::regex_match(name, std::regex("[A-Za-z0-9_.-]{1,64}")))
-        throw InputError("name", name, "1-64 letters, digits, '_', '-' or '.'");
-}
-
-// The base inputs of a campaign, as stored in the ledger; every point applies its params on top.
-nlohmann::json baseOf(const CampaignCmd& o, const std::string& kind) {
-    if (kind == "mixer") {
-        nlohmann::json b{{"kind", kind}, {"scene", o.scene.empty() ? scene::kDefaultMixerScene : o.scene},
-                         {"method", o.method}, {"mesh", o.mesh.empty() ? "coarse" : o.mesh}};
-        if (o.cellSize) b["cell_size_m"] = *o.cellSize, b["mesh"] = "custom";
-        if (o.endTime) b["end_time_s"] = *o.endTime;
-        if (o.initialLoadingKg) b["initial_loading_kg"] = *o.initialLoadingKg;
-        if (o.steadyTol) b["steady_tol"] = *o.steadyTol;
-        if (o.steadyFlowTol) b["steady_flow_tol"] = *o.steadyFlowTol;
-        b["mesher"] = o.mesher;
-        b["steady_window_residence"] = o.steadyResidence;
-        b["numerics"] = o.numerics;
-        return b;
-    }
-    if (o.cellSize || o.endTime || o.initialLoadingKg || o.steadyTol || o.steadyFlowTol)
-        throw InputError("cell-size, end-time, initial-loading-kg, steady-tol, steady-flow-tol", "(given)",
-                         "mixer campaigns only");
-    return {{"kind", kind}, {"material", o.scene.empty() ? "quartz" : o.scene},
-            {"cells_per_length", o.mesh.empty() ? 30 : std::stoi(o.mesh)}};
-}
-
-double param(const nlohmann::json& p, const char* k) { return p.at(k).get<double>(); }
-
-// The scene of one design point (validated); mu_d = mu_s + delta_mu.
-scene::MixerScene mixerSceneFor(const nlohmann::json& base, const nlohmann::json& p) {
-    MixerOptions m;
-    m.scene = base["scene"];
-    m.method = base["method"].get<std::string>();
-    if (base.contains("cell_size_m")) m.cellSize = base["cell_size_m"].get<double>();
-    else m.mesh = base["mesh"].get<std::string>();
-    if (base.contains("end_time_s")) m.endTime = base["end_time_s"].get<double>();
-    if (base.contains("initial_loading_kg"))
-        m.initialLoadingKg = base["initial_loading_kg"].get<double>();
-    if (base.contains("steady_tol")) m.tol = base["steady_tol"].get<double>();
-    if (base.contains("steady_flow_tol")) m.flowTol = base["steady_flow_tol"].get<double>();
-    // Campaigns created before these settings existed ran on the snappy mesh with windows of
-    // revolutions only: without the keys, their points keep those scenes (and hashes).
-    m.mesher = base.value("mesher", std::string("snappy"));
-    m.residence = base.value("steady_window_residence", 0.0);
-    // Likewise the numerics presets: older bases ran the legacy settings.
-    m.numerics = base.value("numerics", std::string("legacy"));
-    const double muS0 = m.build().material.muS;
-    if (p.contains("mu_s")) m.muS = param(p, "mu_s");
-    if (p.contains("delta_mu")) m.muD = m.muS.value_or(muS0) + param(p, "delta_mu");
-    if (p.contains("i0")) m.I0 = param(p, "i0");
-    if (p.contains("d")) m.d = param(p, "d");
-    if (p.contains("rho")) m.rho = param(p, "rho");
-    if (p.contains("feed_kg_h")) m.feedKgH = param(p, "feed_kg_h");
-    if (p.contains("rpm")) m.rpm = param(p, "rpm");
-    return m.build();
-}
-
-scene::CollapseScene collapseSceneFor(const nlohmann::json& base, const nlohmann::json& p) {
-    CollapseOptions c;
-    c.material = base["material"];
-    c.cellsPerLength = base["cells_per_length"];
-    const double muS0 = c.scene().material.muS;
-    if (p.contains("mu_s")) c.muS = param(p, "mu_s");
-    if (p.contains("delta_mu")) c.muD = c.muS.value_or(muS0) + param(p, "delta_mu");
-    if (p.contains("i0")) c.I0 = param(p, "i0");
-    if (p.contains("aspect")) c.aspect = param(p, "aspect");
-    return c.scene();
-}
-
-std::string sceneHashFor(const nlohmann::json& base, const nlohmann::json& p) {
-    return base["kind"] == "mixer" ? mixerSceneFor(base, p).hash() : collapseSceneFor(base, p).hash();
-}
-
-std::vector<nlohmann::json> pointsOf(const experiments::ParameterSpace& space, const nlohmann::json& base,
-                                     const experiments::Design& unit) {
-    std::vector<nlohmann::json> points;
-    for (const auto& u : unit) {
-        const auto x = space.toPhysical(u);
-        nlohmann::json p;
-        for (size_t j = 0; j < x.size(); ++j) p[space.params[j].name] = x[j];
-        p["scene_hash"] = sceneHashFor(base, p);
-        points.push_back(p);
-    }
-    return points;
-}
-
-int create(const CampaignCmd& o) {
-    checkName(o.name);
-    requireRange("n", o.n, 1, 100000);
-    if (o.design != "lhs" && o.design != "sobol") throw InputError("design", o.design, "lhs|sobol");
-    if (fs::exists(ledgerPath(o)))
-        throw InputError("name", o.name, "a new campaign (" + ledgerPath(o).string() + " exists)");
-    const auto space = experiments::loadRanges(o.ranges);
-    if (!o.mesh.empty() && space.scene == "collapse" && !std::regex_match(o.mesh, std::regex("[0-9]{1,3}")))
-        throw InputError("mesh", o.mesh, "cells per column length (e.g. 30) for a collapse campaign");
-    const nlohmann::json base = baseOf(o, space.scene);
-    const auto unit = o.design == "lhs"
-                          ? experiments::latinHypercube(o.n, static_cast<int>(space.params.size()),
-                                                        static_cast<std::uint64_t>(o.seed))
-                          : experiments::sobol(o.n, static_cast<int>(space.params.size()));
-    // Every point becomes a validated scene before the ledger exists: bad input leaves nothing.
-    const auto points = pointsOf(space, base, unit);
-    store::CampaignInfo info;
-    info.name = o.name;
-    info.scene = space.scene;
-    info.sceneJson = base;
-    info.sceneHash = sceneHashFor(base, nlohmann::json::object());
-    info.rangesToml = readFile(o.ranges);
-    info.design = o.design;
-    info.seed = static_cast<std::uint64_t>(o.seed);
-    info.method = space.scene == "mixer" ? o.method : "";
-    info.mesh = base.contains("mesh") ? base["mesh"].get<std::string>()
-                                      : std::to_string(base["cells_per_length"].get<int>());
-    info.mixloadVersion = kVersion;
-    info.gitCommit = kGitCommit;
-    store::Ledger ledger(ledgerPath(o));
-    ledger.createCampaign(info, points);
-    const nlohmann::json out{{"campaign", o.name}, {"ledger", ledgerPath(o).string()},
-                             {"scene", space.scene}, {"design", o.design}, {"points", points.size()},
-                             {"parameters", [&] {
-                                  nlohmann::json a = nlohmann::json::array();
-                                  for (const auto& p : space.params)
-                                      a.push_back({{"name", p.name}, {"unit", p.unit}, {"min", p.min}, {"max", p.max}});
-                                  return a;
-                              }()}};
-    if (o.json) std::cout << out.dump(2) << '\n';
+int printCreated(const CampaignCmd& o) {
+    const auto j = experiments::createCampaign(o.spec);
+    if (o.json) std::cout << j.dump(2) << '\n';
     else
-        std::cout << "campaign " << o.name << ": " << points.size() << " " << space.scene << " points ("
-                  << o.design << "), ledger " << ledgerPath(o).string() << '\n';
+        std::cout << "campaign " << o.spec.place.name << ": " << j["points"] << " " << j["scene"].get<std::string>()
+                  << " points (" << o.spec.design << "), ledger " << j["ledger"].get<std::string>() << '\n';
     return 0;
 }
 
-store::CampaignInfo openCampaign(const CampaignCmd& o, std::unique_ptr<store::Ledger>& l) {
-    checkName(o.name);
-    if (!fs::exists(ledgerPath(o)))
-        throw InputError("name", o.name, "an existing campaign (no " + ledgerPath(o).string() + ")");
-    l = std::make_unique<store::Ledger>(ledgerPath(o));
-    auto c = l->campaign(o.name);
-    if (!c) throw InputError("name", o.name, "a campaign recorded in " + ledgerPath(o).string());
-    return *c;
-}
-
-// Adds n points without repeating any: the Sobol sequence continues where the campaign stopped;
-// a Latin hypercube is augmented into the strata its points leave free.
-int extend(const CampaignCmd& o) {
-    requireRange("n", o.n, 1, 100000);
-    std::unique_ptr<store::Ledger> l;
-    const auto c = openCampaign(o, l);
-    const auto space = experiments::parseRanges(c.rangesToml, o.name + " (ranges recorded in the ledger)");
-    const auto runs = l->runs(o.name);
-    experiments::Design old;
-    for (const auto& r : runs) {
-        std::vector<double> x;
-        for (const auto& p : space.params) x.push_back(r.params.at(p.name).get<double>());
-        old.push_back(space.toUnit(x));
-    }
-    const int k = static_cast<int>(space.params.size());
-    const auto unit = c.design == "sobol"
-                          ? experiments::sobol(o.n, k, static_cast<int>(runs.size()))
-                          : experiments::augmentLatinHypercube(old, o.n, c.seed + runs.size());
-    const auto points = pointsOf(space, c.sceneJson, unit);
-    l->addPoints(o.name, points);
-    const nlohmann::json out{{"campaign", o.name}, {"added", points.size()},
-                             {"points", runs.size() + points.size()}};
-    if (o.json) std::cout << out.dump(2) << '\n';
-    else std::cout << "campaign " << o.name << ": " << points.size() << " points added ("
-                   << runs.size() + points.size() << " in all)\n";
+int printExtended(const CampaignCmd& o) {
+    const auto j = experiments::extendCampaign(o.spec.place, o.spec.n);
+    if (o.json) std::cout << j.dump(2) << '\n';
+    else std::cout << "campaign " << o.spec.place.name << ": " << j["added"] << " points added (" << j["points"] << " in all)\n";
     return 0;
 }
 
-int status(const CampaignCmd& o) {
-    std::unique_ptr<store::Ledger> l;
-    const auto c = openCampaign(o, l);
-    const auto runs = l->runs(o.name);
-    double wall = 0, core = 0;
-    for (const auto& r : runs) wall += r.wallSeconds.value_or(0), core += r.coreSeconds.value_or(0);
-    nlohmann::json out{{"campaign", o.name}, {"scene", c.scene}, {"design", c.design},
-                       {"points", runs.size()}, {"counts", l->status(o.name)},
-                       {"wall_seconds_done", wall}, {"core_seconds_done", core},
-                       {"integrity_ok", l->integrityOk()}, {"created", c.created},
-                       {"mixload_version", c.mixloadVersion}, {"git_commit", c.gitCommit}};
+int printStatus(const CampaignCmd& o) {
+    const auto j = experiments::campaignStatus(o.spec.place);
     if (o.json) {
-        std::cout << out.dump(2) << '\n';
+        std::cout << j.dump(2) << '\n';
         return 0;
     }
-    const auto& n = out["counts"];
-    std::cout << "campaign " << o.name << " (" << c.scene << ", " << c.design << ", " << runs.size()
-              << " points): " << n["done"] << " done, " << n["running"] << " running, " << n["queued"]
-              << " queued, " << n["failed"] << " failed; " << core << " core-seconds so far\n";
+    const auto& n = j["counts"];
+    std::cout << "campaign " << o.spec.place.name << " (" << j["scene"].get<std::string>() << ", "
+              << j["design"].get<std::string>() << ", " << j["points"] << " points): " << n["done"] << " done, "
+              << n["running"] << " running, " << n["queued"] << " queued, " << n["failed"] << " failed; "
+              << j["core_seconds_done"].get<double>() << " core-seconds so far\n";
     return 0;
 }
 
-std::string csvField(const nlohmann::json& v) {
-    if (v.is_null()) return "";
-    if (v.is_string()) {
-        std::string s = v.get<std::string>();
-        if (s.find_first_of(",\"\n") == std::string::npos) return s;
-        std::string q = "\"";
-        for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
-        return q + "\"";
-    }
-    return v.dump();
-}
-
-int exportCsv(const CampaignCmd& o) {
-    if (o.output.empty()) throw InputError("output", "(missing)", "-o FILE.csv");
-    std::unique_ptr<store::Ledger> l;
-    const auto c = openCampaign(o, l);
-    const auto runs = l->runs(o.name);
-    std::set<std::string> params, qois;
-    for (const auto& r : runs) {
-        for (const auto& [k, _] : r.params.items()) params.insert(k);
-        if (r.result.is_object())
-            for (const auto& [k, v] : r.result.items())
-                if (v.is_number() || v.is_boolean() || v.is_null()) qois.insert(k);
-    }
-    std::ostringstream os;
-    os << "# campaign " << o.name << ", scene " << c.scene << ", design " << c.design << ", seed "
-       << c.seed << ", base " << c.sceneJson.dump() << ", created " << c.created << " by mixload "
-       << c.mixloadVersion << " (" << c.gitCommit << ")\n";
-    os << "index";
-    for (const auto& p : params) os << ',' << p;
-    os << ",status,attempts,wall_seconds,core_seconds";
-    for (const auto& q : qois) os << ',' << q;
-    os << ",run_dir,error\n";
-    for (const auto& r : runs) {
-        os << r.index;
-        for (const auto& p : params) os << ',' << csvField(r.params.value(p, nlohmann::json()));
-        os << ',' << r.status << ',' << r.attempts << ','
-           << (r.wallSeconds ? std::to_string(*r.wallSeconds) : "") << ','
-           << (r.coreSeconds ? std::to_string(*r.coreSeconds) : "");
-        for (const auto& q : qois)
-            os << ',' << csvField(r.result.is_object() ? r.result.value(q, nlohmann::json()) : nlohmann::json());
-        os << ',' << csvField(r.runDir) << ',' << csvField(r.error) << '\n';
-    }
-    writeFileAtomic(o.output, os.str());
-    if (o.json) std::cout << nlohmann::json{{"csv", o.output}, {"rows", runs.size()}}.dump(2) << '\n';
-    else std::cout << runs.size() << " rows written to " << o.output << '\n';
+int printExported(const CampaignCmd& o) {
+    const auto j = experiments::exportCampaignCsv(o.spec.place, o.output);
+    if (o.json) std::cout << j.dump(2) << '\n';
+    else std::cout << j["rows"] << " rows written to " << o.output << '\n';
     return 0;
 }
 
-// One design point in its own directory <home>/runs/<index>-<scene hash>. A second attempt runs
-// with half the Courant limit: the usual cure for a diverged run.
-template <class Job, class Scene, class Run>
-nlohmann::json runPoint(Scene s, bool retry, int np, bool snapshots, const fs::path& home, int index,
-                        std::optional<std::chrono::steady_clock::time_point> deadline, Run run) {
-    if (retry) s.maxCourant *= 0.5;
-    Job job;
-    job.scene = s;
-    job.np = np;
-    job.snapshots = snapshots;
-    job.out = home / "runs" / (std::to_string(index) + "-" + s.hash());
-    job.deadline = deadline;
-    return run(job);
-}
-
-// One driver per campaign: an advisory lock that the kernel drops when the driver dies, however.
-int runCampaign(const CampaignCmd& o) {
-    requireRange("jobs", o.jobs, 1, 64);
-    requireRange("np", o.np, 1, 256);
-    requireRange("max-hours", o.maxHours, 0, 1e5);
-    std::unique_ptr<store::Ledger> ledger;
-    const auto c = openCampaign(o, ledger);
-    const fs::path home = fs::path(o.dir) / o.name;
-    const experiments::DriverLock lock(home, "campaign run");
-    // Whatever a previous driver left running died with it (its solvers die with their parent).
-    const int recovered = ledger->requeueRunning(o.name);
-    const auto start = std::chrono::steady_clock::now();
-    const auto deadline = deadlineAfterHours(o.maxHours);
-    const auto total = ledger->runs(o.name).size();
-    const nlohmann::json before = ledger->status(o.name);
-    std::atomic<size_t> finished{before["done"].get<size_t>() + before["failed"].get<size_t>()};
-    std::atomic<bool> stopped{false};
-    std::mutex m;
-    Progress bar("campaign " + o.name, !o.json);
-    bar.update(double(finished) / total, std::to_string(finished.load()) + "/" + std::to_string(total));
-    const auto worker = [&] {
-        store::Ledger l(home / "ledger.sqlite");
-        for (;;) {
-            if (deadline && std::chrono::steady_clock::now() >= *deadline) {
-                stopped = true;
-                return;
-            }
-            const auto r = l.claimNext(o.name, 2, false);
-            if (!r) return;
-            const bool retry = r->attempts > 1;
+int printRun(const CampaignCmd& o) {
+    requireRange("jobs", o.run.jobs, 1, 64);
+    requireRange("np", o.run.np, 1, 256);
+    requireRange("max-hours", o.run.maxHours, 0, 1e5);
+    auto opt = o.run;
+    opt.progress = !o.json;
+    if (!o.checkModel.empty())
+        // Every new full run is a new test of the model (it never trained on it).
+        opt.afterRun = [&o] {
             try {
-                const nlohmann::json res =
-                    c.scene == "mixer"
-                        ? runPoint<run::MixerJob>(mixerSceneFor(c.sceneJson, r->params), retry, o.np,
-                                                  o.snapshots, home, r->index, deadline, run::runMixer)
-                        : runPoint<run::CollapseJob>(collapseSceneFor(c.sceneJson, r->params), retry,
-                                                     o.np, o.snapshots, home, r->index, deadline, run::runCollapse);
-                l.markDone(r->id, store::runQois(c.scene, res), res.value("wall_seconds", 0.0),
-                           res.value("core_seconds", res.value("wall_seconds", 0.0) * o.np),
-                           res.value("run_dir", std::string()));
-            } catch (const DeadlineReached&) {
-                l.release(r->id);  // resumes in the next slice
-                stopped = true;
-                return;
+                runCheck(o.checkModel, o.spec.place.name, o.spec.place.dir, "", std::nullopt, true, false, o.json);
             } catch (const std::exception& e) {
-                l.markFailed(r->id, e.what(), /*failed=*/r->attempts >= 2);
-                if (r->attempts < 2) continue;
+                std::cerr << "mixload: check of " << o.checkModel << " failed: " << e.what() << '\n';
             }
-            std::lock_guard<std::mutex> g(m);
-            ++finished;
-            if (!o.checkModel.empty()) {
-                // Every new full run is a new test of the model (it never trained on it).
-                try {
-                    runCheck(o.checkModel, o.name, o.dir, "", std::nullopt, true, false, o.json);
-                } catch (const std::exception& e) {
-                    std::cerr << "mixload: check of " << o.checkModel << " failed: " << e.what() << '\n';
-                }
-            }
-            bar.update(double(finished) / total,
-                       std::to_string(finished.load()) + "/" + std::to_string(total) + " runs");
-        }
-    };
-    std::vector<std::thread> pool;
-    for (int j = 0; j < o.jobs; ++j) pool.emplace_back(worker);
-    for (auto& t : pool) t.join();
-    bar.finish();
-    const nlohmann::json counts = ledger->status(o.name);
-    const nlohmann::json out{{"campaign", o.name}, {"counts", counts}, {"recovered", recovered},
-                             {"stopped_at_max_hours", stopped.load()},
-                             {"wall_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
-    if (o.json) std::cout << out.dump(2) << '\n';
+        };
+    const auto j = experiments::runCampaign(o.spec.place, opt);
+    const auto& counts = j["counts"];
+    if (o.json) std::cout << j.dump(2) << '\n';
     else
-        std::cout << "campaign " << o.name << ": " << counts["done"] << " done, " << counts["failed"]
+        std::cout << "campaign " << o.spec.place.name << ": " << counts["done"] << " done, " << counts["failed"]
                   << " failed, " << counts["queued"] << " queued"
-                  << (stopped ? " (stopped at --max-hours; run again to continue)" : "") << '\n';
+                  << (j["stopped_at_max_hours"].get<bool>() ? " (stopped at --max-hours; run again to continue)" : "")
+                  << '\n';
     return counts["failed"].get<int>() > 0 ? 1 : 0;
 }
 
 }  // namespace
-
-surrogates::Table campaignTable(const std::string& name, const std::string& dir, nlohmann::json& provenance) {
-    CampaignCmd o;
-    o.name = name;
-    o.dir = dir;
-    std::unique_ptr<store::Ledger> l;
-    const auto c = openCampaign(o, l);
-    if (c.scene != "mixer") throw InputError("campaign", name, "a mixer campaign (surrogates model the loading)");
-    provenance = {{"campaign", name},           {"ledger", ledgerPath(o).string()},
-                  {"design", c.design},         {"seed", c.seed},
-                  {"base", c.sceneJson},        {"campaign_created", c.created},
-                  {"campaign_mixload_version", c.mixloadVersion}, {"campaign_git_commit", c.gitCommit}};
-    surrogates::Table t;
-    for (const auto& r : l->runs(name)) {
-        if (r.status != "done" || !r.result.value("steady", false) || !r.result.contains("loading_kg")) {
-            ++t.skipped;
-            continue;
-        }
-        // Every input as the run saw it: the base scene with the point's parameters applied.
-        const auto s = mixerSceneFor(c.sceneJson, r.params);
-        surrogates::Row row;
-        row.id = r.params.value("scene_hash", std::to_string(r.index));
-        row.x = {s.material.muS, s.material.muD, s.material.I0, s.material.grainDiameter,
-                 s.material.bulkDensity(), s.feedKgH, s.rpm};
-        row.m = r.result["loading_kg"].get<double>();
-        t.rows.push_back(row);
-    }
-    return t;
-}
 
 void addCampaign(CLI::App& app, Action& action) {
     auto* camp = app.add_subcommand("campaign", "Offline full-CFD campaigns over a design of experiments (SQLite ledger)");
@@ -424,61 +90,61 @@ void addCampaign(CLI::App& app, Action& action) {
     auto o = std::make_shared<CampaignCmd>();
 
     auto* cr = camp->add_subcommand("create", "Create a campaign: sample the ranges, queue every point in a new ledger");
-    cr->add_option("name", o->name, "Campaign name")->required();
-    cr->add_option("--ranges", o->ranges, "Ranges file (TOML: scene = mixer|collapse, one table per parameter with min, max, unit)")->required();
-    cr->add_option("--design", o->design, "lhs (maximin Latin hypercube) | sobol")->capture_default_str();
-    cr->add_option("--n", o->n, "Number of points")->required();
-    cr->add_option("--seed", o->seed, "Seed of the Latin hypercube")->capture_default_str();
-    cr->add_option("--scene", o->scene, std::string("Mixer: scene name or file (default ") + scene::kDefaultMixerScene +
+    cr->add_option("name", o->spec.place.name, "Campaign name")->required();
+    cr->add_option("--ranges", o->spec.ranges, "Ranges file (TOML: scene = mixer|collapse, one table per parameter with min, max, unit)")->required();
+    cr->add_option("--design", o->spec.design, "lhs (maximin Latin hypercube) | sobol")->capture_default_str();
+    cr->add_option("--n", o->spec.n, "Number of points")->required();
+    cr->add_option("--seed", o->spec.seed, "Seed of the Latin hypercube")->capture_default_str();
+    cr->add_option("--scene", o->spec.scene, std::string("Mixer: scene name or file (default ") + scene::kDefaultMixerScene +
                                             "); collapse: material (default quartz)");
-    cr->add_option("--method", o->method, "Mixer method: mrf | lts | sm")->capture_default_str();
-    cr->add_option("--mesh", o->mesh, "Mixer: coarse | medium | fine (default coarse); collapse: cells per column length (default 30)");
-    cr->add_option("--cell-size", o->cellSize, "Mixer: explicit cell size [m] instead of --mesh");
-    cr->add_option("--end-time", o->endTime, "Mixer: cap on simulated time per run [s]");
-    cr->add_option("--initial-loading-kg", o->initialLoadingKg,
+    cr->add_option("--method", o->spec.method, "Mixer method: mrf | lts | sm")->capture_default_str();
+    cr->add_option("--mesh", o->spec.mesh, "Mixer: coarse | medium | fine (default coarse); collapse: cells per column length (default 30)");
+    cr->add_option("--cell-size", o->spec.cellSize, "Mixer: explicit cell size [m] instead of --mesh");
+    cr->add_option("--end-time", o->spec.endTime, "Mixer: cap on simulated time per run [s]");
+    cr->add_option("--initial-loading-kg", o->spec.initialLoadingKg,
                    "Mixer: powder deposited at t = 0 [kg]; near the expected loading shortens each run");
-    cr->add_option("--steady-tol", o->steadyTol, "Mixer: steady when consecutive window means of M agree within this fraction");
-    cr->add_option("--steady-flow-tol", o->steadyFlowTol, "Mixer: ... and the mean outflow is within this fraction of the feed");
-    cr->add_option("--mesher", o->mesher, "Mixer: ogrid | snappy")->capture_default_str();
-    cr->add_option("--steady-window-residence", o->steadyResidence,
+    cr->add_option("--steady-tol", o->spec.steadyTol, "Mixer: steady when consecutive window means of M agree within this fraction");
+    cr->add_option("--steady-flow-tol", o->spec.steadyFlowTol, "Mixer: ... and the mean outflow is within this fraction of the feed");
+    cr->add_option("--mesher", o->spec.mesher, "Mixer: ogrid | snappy")->capture_default_str();
+    cr->add_option("--steady-window-residence", o->spec.steadyResidence,
                    "Mixer: steady-test windows span at least this share of the residence time M/feed")
         ->capture_default_str();
-    cr->add_option("--numerics", o->numerics, "Mixer: solver settings preset fast | legacy")
+    cr->add_option("--numerics", o->spec.numerics, "Mixer: solver settings preset fast | legacy")
         ->capture_default_str();
-    cr->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
+    cr->add_option("--dir", o->spec.place.dir, "Where campaigns live")->capture_default_str();
     cr->add_flag("--json", o->json, "Print JSON");
-    cr->callback([&action, o] { action = [o] { return create(*o); }; });
+    cr->callback([&action, o] { action = [o] { return printCreated(*o); }; });
 
     auto* rn = camp->add_subcommand("run", "Run (or continue) a campaign: J runs at a time, resumable after any interruption");
-    rn->add_option("name", o->name, "Campaign name")->required();
-    rn->add_option("--jobs", o->jobs, "Concurrent runs")->capture_default_str();
-    rn->add_option("--np", o->np, "MPI ranks per run")->capture_default_str();
-    rn->add_option("--max-hours", o->maxHours, "Stop cleanly after this many hours (0: no limit); unfinished runs resume next time");
-    rn->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
+    rn->add_option("name", o->spec.place.name, "Campaign name")->required();
+    rn->add_option("--jobs", o->run.jobs, "Concurrent runs")->capture_default_str();
+    rn->add_option("--np", o->run.np, "MPI ranks per run")->capture_default_str();
+    rn->add_option("--max-hours", o->run.maxHours, "Stop cleanly after this many hours (0: no limit); unfinished runs resume next time");
+    rn->add_option("--dir", o->spec.place.dir, "Where campaigns live")->capture_default_str();
     rn->add_option("--check", o->checkModel, "After each finished run, check this surrogate model against the campaign (mixload check)");
-    rn->add_flag("--snapshots", o->snapshots, "Keep every written time of each run and export its snapshots.h5");
+    rn->add_flag("--snapshots", o->run.snapshots, "Keep every written time of each run and export its snapshots.h5");
     rn->add_flag("--json", o->json, "Print JSON");
-    rn->callback([&action, o] { action = [o] { return runCampaign(*o); }; });
+    rn->callback([&action, o] { action = [o] { return printRun(*o); }; });
 
     auto* xt = camp->add_subcommand("extend", "Add points to a campaign's design without repeating any (Sobol continues; LHS is augmented)");
-    xt->add_option("name", o->name, "Campaign name")->required();
-    xt->add_option("--n", o->n, "Number of points to add")->required();
-    xt->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
+    xt->add_option("name", o->spec.place.name, "Campaign name")->required();
+    xt->add_option("--n", o->spec.n, "Number of points to add")->required();
+    xt->add_option("--dir", o->spec.place.dir, "Where campaigns live")->capture_default_str();
     xt->add_flag("--json", o->json, "Print JSON");
-    xt->callback([&action, o] { action = [o] { return extend(*o); }; });
+    xt->callback([&action, o] { action = [o] { return printExtended(*o); }; });
 
     auto* st = camp->add_subcommand("status", "Counts of queued, running, done and failed runs");
-    st->add_option("name", o->name, "Campaign name")->required();
-    st->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
+    st->add_option("name", o->spec.place.name, "Campaign name")->required();
+    st->add_option("--dir", o->spec.place.dir, "Where campaigns live")->capture_default_str();
     st->add_flag("--json", o->json, "Print JSON");
-    st->callback([&action, o] { action = [o] { return status(*o); }; });
+    st->callback([&action, o] { action = [o] { return printStatus(*o); }; });
 
     auto* ex = camp->add_subcommand("export", "Write every run (inputs, status, timings, results) as CSV");
-    ex->add_option("name", o->name, "Campaign name")->required();
+    ex->add_option("name", o->spec.place.name, "Campaign name")->required();
     ex->add_option("-o,--output", o->output, "CSV file (written to a temp name, then renamed)")->required();
-    ex->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
+    ex->add_option("--dir", o->spec.place.dir, "Where campaigns live")->capture_default_str();
     ex->add_flag("--json", o->json, "Print JSON");
-    ex->callback([&action, o] { action = [o] { return exportCsv(*o); }; });
+    ex->callback([&action, o] { action = [o] { return printExported(*o); }; });
 }
 
 }  // namespace mixload::app

@@ -13,6 +13,7 @@
 #include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
 #include "model.hpp"
+#include "whatif/whatif.hpp"
 
 namespace mixload::app {
 
@@ -26,18 +27,6 @@ void warnOutside(const surrogates::Surrogate& m, const Point& x, const std::stri
     std::cout.flush();  // keep the warning after what was already printed
     for (const auto& w : m.outsideBox(x))
         std::cerr << "mixload: warning: " << label << "outside the training box: " << w << '\n';
-}
-
-nlohmann::json predictionJson(const surrogates::Surrogate& m, const Point& x, const surrogates::Prediction& p,
-                              const std::string& model) {
-    nlohmann::json j{{"loading_kg", p.m},
-                     {"ci95_kg", std::isnan(p.lo) ? nlohmann::json() : nlohmann::json{p.lo, p.hi}},
-                     {"in_training_box", p.inBox},
-                     {"model", model},
-                     {"kind", m.kind()},
-                     {"source", m.sourceLabel()}};
-    if (!p.inBox) j["outside"] = m.outsideBox(x);
-    return j;
 }
 
 struct PredictCmd {
@@ -84,7 +73,7 @@ int predict(const PredictCmd& o) {
     const auto p = m.predict(x, ws);
     warnOutside(m, x);
     if (o.json) {
-        std::cout << predictionJson(m, x, p, path).dump(2) << '\n';
+        std::cout << experiments::predictionJson(m, x, p, path).dump(2) << '\n';
         return 0;
     }
     std::cout << std::setprecision(4) << "M = " << p.m << " kg";
@@ -95,7 +84,7 @@ int predict(const PredictCmd& o) {
 
 // --- whatif ------------------------------------------------------------------------------------
 
-constexpr std::array<size_t, 5> kMaterial{0, 1, 2, 3, 4};  // mu_s, mu_d, i0, d, rho
+using experiments::kMaterial;
 
 struct WhatifCmd {
     std::string model, baseFile, newFile;
@@ -177,10 +166,6 @@ std::vector<std::pair<double, double>> operatingPoints(const WhatifCmd& o) {
     return pts;
 }
 
-// Half-width of the 95% interval as a standard deviation (log models give skewed intervals: use
-// the mean half-width).
-double sdOf(const surrogates::Prediction& p) { return std::isnan(p.lo) ? NAN : (p.hi - p.lo) / (2 * 1.959963984540054); }
-
 int whatif(const WhatifCmd& o) {
     const Point a = formulation(o.baseFile, o.base, "", nullptr);
     Point b = formulation(o.newFile, o.changed, "new-", o.newFile.empty() ? &a : nullptr);
@@ -188,44 +173,16 @@ int whatif(const WhatifCmd& o) {
     const auto pts = operatingPoints(o);
     const std::string path = o.model.empty() ? defaultModelPath() : o.model;
     const auto m = surrogates::Surrogate::load(path);
-    auto ws = m.makeWorkspace();
     nlohmann::json out{{"model", path}, {"kind", m.kind()}, {"source", m.sourceLabel()}, {"points", nlohmann::json::array()}};
     for (size_t k : kMaterial) {
         out["base"][kInputSpecs[k].name] = a[k];
         out["new"][kInputSpecs[k].name] = b[k];
     }
-    for (const auto& [feed, rpm] : pts) {
-        Point xa = a, xb = b;
-        xa[5] = xb[5] = feed;
-        xa[6] = xb[6] = rpm;
-        surrogates::requirePhysical(xa);
-        surrogates::requirePhysical(xb);
-        warnOutside(m, xa, "base: ");
-        warnOutside(m, xb, "new: ");
-        const auto pa = m.predict(xa, ws), pb = m.predict(xb, ws);
-        // Errors of the two predictions taken as independent: for nearby formulations they are
-        // positively correlated, so this overstates the uncertainty of the difference.
-        const double dm = pb.m - pa.m, sd = std::hypot(sdOf(pa), sdOf(pb));
-        nlohmann::json attribution = nlohmann::json::array();
-        double sum = 0;
-        for (size_t k : kMaterial) {
-            if (xa[k] == xb[k]) continue;
-            Point xk = xa;
-            xk[k] = xb[k];
-            const double dk = m.predict(xk, ws).m - pa.m;  // this input alone, from the base
-            sum += dk;
-            attribution.push_back({{"input", kInputSpecs[k].name}, {"from", xa[k]}, {"to", xb[k]}, {"delta_kg", dk}});
-        }
-        out["points"].push_back({{"feed_kg_h", feed},
-                                 {"rpm", rpm},
-                                 {"base", predictionJson(m, xa, pa, path)},
-                                 {"new", predictionJson(m, xb, pb, path)},
-                                 {"delta_kg", dm},
-                                 {"delta_rel", dm / pa.m},
-                                 {"delta_ci95_kg", std::isnan(sd) ? nlohmann::json() : nlohmann::json{dm - 1.96 * sd, dm + 1.96 * sd}},
-                                 {"attribution", attribution},
-                                 {"interaction_kg", dm - sum}});
-    }
+    out["points"] = experiments::compareFormulations(m, path, a, b, pts);
+    for (const auto& p : out["points"])
+        for (const char* side : {"base", "new"})
+            for (const auto& w : p[side].value("outside", nlohmann::json::array()))
+                std::cerr << "mixload: warning: " << side << ": outside the training box: " << w.get<std::string>() << '\n';
     if (o.json) {
         std::cout << out.dump(2) << '\n';
         return 0;

@@ -4,7 +4,7 @@
 #include <iomanip>
 #include <iostream>
 
-#include "app/campaign_table.hpp"
+#include "campaign/campaign_table.hpp"
 #include "app/commands.hpp"
 #include "app/point_options.hpp"
 #include "check.hpp"
@@ -31,7 +31,7 @@ surrogates::Table loadRuns(const SurrogateCmd& o, nlohmann::json& source) {
     if (o.campaign.empty() == o.table.empty())
         throw InputError("--campaign / --table", "(both or neither)", "exactly one of them");
     if (!o.campaign.empty()) {
-        return campaignTable(o.campaign, o.dir, source);
+        return experiments::campaignTable(o.campaign, o.dir, source);
     }
     source = {{"table", o.table}};
     return surrogates::readTable(o.table);

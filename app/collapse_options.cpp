@@ -25,22 +25,4 @@ void CollapseOptions::add(CLI::App* cmd) {
         ->capture_default_str();
 }
 
-scene::CollapseScene CollapseOptions::scene() const {
-    scene::CollapseScene s;
-    s.material = scene::loadMaterial(material);
-    if (muS) s.material.muS = *muS;
-    if (muD) s.material.muD = *muD;
-    if (I0) s.material.I0 = *I0;
-    s.aspect = aspect;
-    s.length = length;
-    s.cellsPerLength = cellsPerLength;
-    s.rheology = rheology;
-    s.convention = convention;
-    s.etaMax = etaMax;
-    s.restFraction = restFraction;
-    s.capTstar = capTstar;
-    s.validate();
-    return s;
-}
-
 }  // namespace mixload::app

@@ -7,24 +7,12 @@
 
 #include <CLI/CLI.hpp>
 
-#include "scene/collapse_scene.hpp"
+#include "scene/collapse_overrides.hpp"
 
 namespace mixload::app {
 
-struct CollapseOptions {
-    std::string material = "quartz";
-    double aspect = 2.0;
-    double length = 0.05;
-    int cellsPerLength = 30;
-    std::optional<double> muS, muD, I0, etaMax;
-    std::string rheology = "muI";
-    std::string convention = "standard";
-    double restFraction = 0.01;
-    double capTstar = 15.0;
-
+struct CollapseOptions : scene::CollapseOverrides {
     void add(CLI::App* cmd);
-    // Loads the material, applies overrides, validates: throws InputError before anything is written.
-    scene::CollapseScene scene() const;
 };
 
 }  // namespace mixload::app

@@ -7,10 +7,10 @@
 
 #include "table.hpp"
 
-namespace mixload::app {
+namespace mixload::experiments {
 
 // Throws InputError if the campaign does not exist or is not a mixer campaign. provenance gets the
 // campaign's name, ledger path, design, base scene and the code that created it.
 surrogates::Table campaignTable(const std::string& name, const std::string& dir, nlohmann::json& provenance);
 
-}  // namespace mixload::app
+}  // namespace mixload::experiments

@@ -1,0 +1,342 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "campaign/campaign.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <mutex>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "campaign/driver_lock.hpp"
+#include "common/atomic_file.hpp"
+#include "common/clock.hpp"
+#include "common/input_error.hpp"
+#include "common/process.hpp"
+#include "common/progress.hpp"
+#include "doe/designs.hpp"
+#include "doe/parameter_space.hpp"
+#include "mixload_version.hpp"
+#include "run/collapse_job.hpp"
+#include "run/foam_runner.hpp"
+#include "run/mixer_job.hpp"
+#include "scene/collapse_overrides.hpp"
+#include "scene/mixer_overrides.hpp"
+
+namespace mixload::experiments {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+void checkName(const std::string& name) {
+    if (!std::regex_match(name, std::regex("[A-Za-z0-9_.-]{1,64}")))
+        throw InputError("name", name, "1-64 letters, digits, '_', '-' or '.'");
+}
+
+// The base inputs of a campaign, as stored in the ledger; every point applies its params on top.
+nlohmann::json baseOf(const CampaignSpec& o, const std::string& kind) {
+    if (kind == "mixer") {
+        nlohmann::json b{{"kind", kind}, {"scene", o.scene.empty() ? scene::kDefaultMixerScene : o.scene},
+                         {"method", o.method}, {"mesh", o.mesh.empty() ? "coarse" : o.mesh}};
+        if (o.cellSize) b["cell_size_m"] = *o.cellSize, b["mesh"] = "custom";
+        if (o.endTime) b["end_time_s"] = *o.endTime;
+        if (o.initialLoadingKg) b["initial_loading_kg"] = *o.initialLoadingKg;
+        if (o.steadyTol) b["steady_tol"] = *o.steadyTol;
+        if (o.steadyFlowTol) b["steady_flow_tol"] = *o.steadyFlowTol;
+        b["mesher"] = o.mesher;
+        b["steady_window_residence"] = o.steadyResidence;
+        b["numerics"] = o.numerics;
+        return b;
+    }
+    if (o.cellSize || o.endTime || o.initialLoadingKg || o.steadyTol || o.steadyFlowTol)
+        throw InputError("cell-size, end-time, initial-loading-kg, steady-tol, steady-flow-tol", "(given)",
+                         "mixer campaigns only");
+    return {{"kind", kind}, {"material", o.scene.empty() ? "quartz" : o.scene},
+            {"cells_per_length", o.mesh.empty() ? 30 : std::stoi(o.mesh)}};
+}
+
+double param(const nlohmann::json& p, const char* k) { return p.at(k).get<double>(); }
+
+}  // namespace
+
+// The scene of one design point (validated); mu_d = mu_s + delta_mu.
+scene::MixerScene mixerSceneFor(const nlohmann::json& base, const nlohmann::json& p) {
+    scene::MixerOverrides m;
+    m.scene = base["scene"];
+    m.method = base["method"].get<std::string>();
+    if (base.contains("cell_size_m")) m.cellSize = base["cell_size_m"].get<double>();
+    else m.mesh = base["mesh"].get<std::string>();
+    if (base.contains("end_time_s")) m.endTime = base["end_time_s"].get<double>();
+    if (base.contains("initial_loading_kg"))
+        m.initialLoadingKg = base["initial_loading_kg"].get<double>();
+    if (base.contains("steady_tol")) m.tol = base["steady_tol"].get<double>();
+    if (base.contains("steady_flow_tol")) m.flowTol = base["steady_flow_tol"].get<double>();
+    // Campaigns created before these settings existed ran on the snappy mesh with windows of
+    // revolutions only: without the keys, their points keep those scenes (and hashes).
+    m.mesher = base.value("mesher", std::string("snappy"));
+    m.residence = base.value("steady_window_residence", 0.0);
+    // Likewise the numerics presets: older bases ran the legacy settings.
+    m.numerics = base.value("numerics", std::string("legacy"));
+    const double muS0 = m.build().material.muS;
+    if (p.contains("mu_s")) m.muS = param(p, "mu_s");
+    if (p.contains("delta_mu")) m.muD = m.muS.value_or(muS0) + param(p, "delta_mu");
+    if (p.contains("i0")) m.I0 = param(p, "i0");
+    if (p.contains("d")) m.d = param(p, "d");
+    if (p.contains("rho")) m.rho = param(p, "rho");
+    if (p.contains("feed_kg_h")) m.feedKgH = param(p, "feed_kg_h");
+    if (p.contains("rpm")) m.rpm = param(p, "rpm");
+    return m.build();
+}
+
+scene::CollapseScene collapseSceneFor(const nlohmann::json& base, const nlohmann::json& p) {
+    scene::CollapseOverrides c;
+    c.material = base["material"];
+    c.cellsPerLength = base["cells_per_length"];
+    const double muS0 = c.scene().material.muS;
+    if (p.contains("mu_s")) c.muS = param(p, "mu_s");
+    if (p.contains("delta_mu")) c.muD = c.muS.value_or(muS0) + param(p, "delta_mu");
+    if (p.contains("i0")) c.I0 = param(p, "i0");
+    if (p.contains("aspect")) c.aspect = param(p, "aspect");
+    return c.scene();
+}
+
+namespace {
+
+std::string sceneHashFor(const nlohmann::json& base, const nlohmann::json& p) {
+    return base["kind"] == "mixer" ? mixerSceneFor(base, p).hash() : collapseSceneFor(base, p).hash();
+}
+
+std::vector<nlohmann::json> pointsOf(const ParameterSpace& space, const nlohmann::json& base,
+                                     const Design& unit) {
+    std::vector<nlohmann::json> points;
+    for (const auto& u : unit) {
+        const auto x = space.toPhysical(u);
+        nlohmann::json p;
+        for (size_t j = 0; j < x.size(); ++j) p[space.params[j].name] = x[j];
+        p["scene_hash"] = sceneHashFor(base, p);
+        points.push_back(p);
+    }
+    return points;
+}
+
+
+std::string csvField(const nlohmann::json& v) {
+    if (v.is_null()) return "";
+    if (v.is_string()) {
+        std::string s = v.get<std::string>();
+        if (s.find_first_of(",\"\n") == std::string::npos) return s;
+        std::string q = "\"";
+        for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+        return q + "\"";
+    }
+    return v.dump();
+}
+
+// One design point in its own directory <home>/runs/<index>-<scene hash>. A second attempt runs
+// with half the Courant limit: the usual cure for a diverged run.
+template <class Job, class Scene, class Run>
+nlohmann::json runPoint(Scene s, bool retry, int np, bool snapshots, const fs::path& home, int index,
+                        std::optional<std::chrono::steady_clock::time_point> deadline, Run run) {
+    if (retry) s.maxCourant *= 0.5;
+    Job job;
+    job.scene = s;
+    job.np = np;
+    job.snapshots = snapshots;
+    job.out = home / "runs" / (std::to_string(index) + "-" + s.hash());
+    job.deadline = deadline;
+    return run(job);
+}
+
+}  // namespace
+
+nlohmann::json createCampaign(const CampaignSpec& o) {
+    checkName(o.place.name);
+    requireRange("n", o.n, 1, 100000);
+    if (o.design != "lhs" && o.design != "sobol") throw InputError("design", o.design, "lhs|sobol");
+    if (fs::exists(o.place.ledger()))
+        throw InputError("name", o.place.name, "a new campaign (" + o.place.ledger().string() + " exists)");
+    const auto space = loadRanges(o.ranges);
+    if (!o.mesh.empty() && space.scene == "collapse" && !std::regex_match(o.mesh, std::regex("[0-9]{1,3}")))
+        throw InputError("mesh", o.mesh, "cells per column length (e.g. 30) for a collapse campaign");
+    const nlohmann::json base = baseOf(o, space.scene);
+    const auto unit = o.design == "lhs"
+                          ? latinHypercube(o.n, static_cast<int>(space.params.size()),
+                                                        static_cast<std::uint64_t>(o.seed))
+                          : sobol(o.n, static_cast<int>(space.params.size()));
+    // Every point becomes a validated scene before the ledger exists: bad input leaves nothing.
+    const auto points = pointsOf(space, base, unit);
+    store::CampaignInfo info;
+    info.name = o.place.name;
+    info.scene = space.scene;
+    info.sceneJson = base;
+    info.sceneHash = sceneHashFor(base, nlohmann::json::object());
+    info.rangesToml = readFile(o.ranges);
+    info.design = o.design;
+    info.seed = static_cast<std::uint64_t>(o.seed);
+    info.method = space.scene == "mixer" ? o.method : "";
+    info.mesh = base.contains("mesh") ? base["mesh"].get<std::string>()
+                                      : std::to_string(base["cells_per_length"].get<int>());
+    info.mixloadVersion = kVersion;
+    info.gitCommit = kGitCommit;
+    store::Ledger ledger(o.place.ledger());
+    ledger.createCampaign(info, points);
+    return {{"campaign", o.place.name}, {"ledger", o.place.ledger().string()},
+            {"scene", space.scene}, {"design", o.design}, {"points", points.size()},
+            {"parameters", [&] {
+                 nlohmann::json a = nlohmann::json::array();
+                 for (const auto& p : space.params)
+                     a.push_back({{"name", p.name}, {"unit", p.unit}, {"min", p.min}, {"max", p.max}});
+                 return a;
+             }()}};
+}
+
+store::CampaignInfo openCampaign(const CampaignPlace& o, std::unique_ptr<store::Ledger>& l) {
+    checkName(o.name);
+    if (!fs::exists(o.ledger()))
+        throw InputError("name", o.name, "an existing campaign (no " + o.ledger().string() + ")");
+    l = std::make_unique<store::Ledger>(o.ledger());
+    auto c = l->campaign(o.name);
+    if (!c) throw InputError("name", o.name, "a campaign recorded in " + o.ledger().string());
+    return *c;
+}
+
+// Adds n points without repeating any: the Sobol sequence continues where the campaign stopped;
+// a Latin hypercube is augmented into the strata its points leave free.
+nlohmann::json extendCampaign(const CampaignPlace& o, int n) {
+    requireRange("n", n, 1, 100000);
+    std::unique_ptr<store::Ledger> l;
+    const auto c = openCampaign(o, l);
+    const auto space = parseRanges(c.rangesToml, o.name + " (ranges recorded in the ledger)");
+    const auto runs = l->runs(o.name);
+    Design old;
+    for (const auto& r : runs) {
+        std::vector<double> x;
+        for (const auto& p : space.params) x.push_back(r.params.at(p.name).get<double>());
+        old.push_back(space.toUnit(x));
+    }
+    const int k = static_cast<int>(space.params.size());
+    const auto unit = c.design == "sobol"
+                          ? sobol(n, k, static_cast<int>(runs.size()))
+                          : augmentLatinHypercube(old, n, c.seed + runs.size());
+    const auto points = pointsOf(space, c.sceneJson, unit);
+    l->addPoints(o.name, points);
+    return {{"campaign", o.name}, {"added", points.size()}, {"points", runs.size() + points.size()}};
+}
+
+nlohmann::json campaignStatus(const CampaignPlace& o) {
+    std::unique_ptr<store::Ledger> l;
+    const auto c = openCampaign(o, l);
+    const auto runs = l->runs(o.name);
+    double wall = 0, core = 0;
+    for (const auto& r : runs) wall += r.wallSeconds.value_or(0), core += r.coreSeconds.value_or(0);
+    nlohmann::json out{{"campaign", o.name}, {"scene", c.scene}, {"design", c.design},
+                       {"points", runs.size()}, {"counts", l->status(o.name)},
+                       {"wall_seconds_done", wall}, {"core_seconds_done", core},
+                       {"integrity_ok", l->integrityOk()}, {"created", c.created},
+                       {"mixload_version", c.mixloadVersion}, {"git_commit", c.gitCommit}};
+    return out;
+}
+
+nlohmann::json exportCampaignCsv(const CampaignPlace& o, const std::filesystem::path& csv) {
+    if (csv.empty()) throw InputError("output", "(missing)", "-o FILE.csv");
+    std::unique_ptr<store::Ledger> l;
+    const auto c = openCampaign(o, l);
+    const auto runs = l->runs(o.name);
+    std::set<std::string> params, qois;
+    for (const auto& r : runs) {
+        for (const auto& [k, _] : r.params.items()) params.insert(k);
+        if (r.result.is_object())
+            for (const auto& [k, v] : r.result.items())
+                if (v.is_number() || v.is_boolean() || v.is_null()) qois.insert(k);
+    }
+    std::ostringstream os;
+    os << "# campaign " << o.name << ", scene " << c.scene << ", design " << c.design << ", seed "
+       << c.seed << ", base " << c.sceneJson.dump() << ", created " << c.created << " by mixload "
+       << c.mixloadVersion << " (" << c.gitCommit << ")\n";
+    os << "index";
+    for (const auto& p : params) os << ',' << p;
+    os << ",status,attempts,wall_seconds,core_seconds";
+    for (const auto& q : qois) os << ',' << q;
+    os << ",run_dir,error\n";
+    for (const auto& r : runs) {
+        os << r.index;
+        for (const auto& p : params) os << ',' << csvField(r.params.value(p, nlohmann::json()));
+        os << ',' << r.status << ',' << r.attempts << ','
+           << (r.wallSeconds ? std::to_string(*r.wallSeconds) : "") << ','
+           << (r.coreSeconds ? std::to_string(*r.coreSeconds) : "");
+        for (const auto& q : qois)
+            os << ',' << csvField(r.result.is_object() ? r.result.value(q, nlohmann::json()) : nlohmann::json());
+        os << ',' << csvField(r.runDir) << ',' << csvField(r.error) << '\n';
+    }
+    writeFileAtomic(csv, os.str());
+    return {{"csv", csv.string()}, {"rows", runs.size()}};
+}
+
+// One driver per campaign: an advisory lock that the kernel drops when the driver dies, however.
+nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions& o) {
+    requireRange("jobs", o.jobs, 1, 64);
+    requireRange("np", o.np, 1, 256);
+    requireRange("max-hours", o.maxHours, 0, 1e5);
+    std::unique_ptr<store::Ledger> ledger;
+    const auto c = openCampaign(place, ledger);
+    const fs::path home = place.home();
+    const DriverLock lock(home, "campaign run");
+    // Whatever a previous driver left running died with it (its solvers die with their parent).
+    const int recovered = ledger->requeueRunning(place.name);
+    const auto start = std::chrono::steady_clock::now();
+    const auto deadline = deadlineAfterHours(o.maxHours);
+    const auto total = ledger->runs(place.name).size();
+    const nlohmann::json before = ledger->status(place.name);
+    std::atomic<size_t> finished{before["done"].get<size_t>() + before["failed"].get<size_t>()};
+    std::atomic<bool> stopped{false};
+    std::mutex m;
+    Progress bar("campaign " + place.name, o.progress);
+    bar.update(double(finished) / total, std::to_string(finished.load()) + "/" + std::to_string(total));
+    const auto worker = [&] {
+        store::Ledger l(home / "ledger.sqlite");
+        for (;;) {
+            if (deadline && std::chrono::steady_clock::now() >= *deadline) {
+                stopped = true;
+                return;
+            }
+            const auto r = l.claimNext(place.name, 2, false);
+            if (!r) return;
+            const bool retry = r->attempts > 1;
+            try {
+                const nlohmann::json res =
+                    c.scene == "mixer"
+                        ? runPoint<run::MixerJob>(mixerSceneFor(c.sceneJson, r->params), retry, o.np,
+                                                  o.snapshots, home, r->index, deadline, run::runMixer)
+                        : runPoint<run::CollapseJob>(collapseSceneFor(c.sceneJson, r->params), retry,
+                                                     o.np, o.snapshots, home, r->index, deadline, run::runCollapse);
+                l.markDone(r->id, store::runQois(c.scene, res), res.value("wall_seconds", 0.0),
+                           res.value("core_seconds", res.value("wall_seconds", 0.0) * o.np),
+                           res.value("run_dir", std::string()));
+            } catch (const DeadlineReached&) {
+                l.release(r->id);  // resumes in the next slice
+                stopped = true;
+                return;
+            } catch (const std::exception& e) {
+                l.markFailed(r->id, e.what(), /*failed=*/r->attempts >= 2);
+                if (r->attempts < 2) continue;
+            }
+            std::lock_guard<std::mutex> g(m);
+            ++finished;
+            if (o.afterRun) o.afterRun();
+            bar.update(double(finished) / total,
+                       std::to_string(finished.load()) + "/" + std::to_string(total) + " runs");
+        }
+    };
+    std::vector<std::thread> pool;
+    for (int j = 0; j < o.jobs; ++j) pool.emplace_back(worker);
+    for (auto& t : pool) t.join();
+    bar.finish();
+    const nlohmann::json counts = ledger->status(place.name);
+    return {{"campaign", place.name}, {"counts", counts}, {"recovered", recovered},
+            {"stopped_at_max_hours", stopped.load()},
+            {"wall_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
+}
+
+}  // namespace mixload::experiments

@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Offline full-CFD campaigns over a design of experiments, recorded in a SQLite ledger under
+// <dir>/<name>/ledger.sqlite: create, extend, run (resumable, one driver at a time), status, export.
+// Each call returns its summary as JSON; `mixload campaign` prints it.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "scene/collapse_scene.hpp"
+#include "scene/mixer_scene.hpp"
+#include "store/ledger.hpp"
+
+namespace mixload::experiments {
+
+struct CampaignPlace {
+    std::string name;
+    std::string dir = "runs/campaigns";
+    std::filesystem::path home() const { return std::filesystem::path(dir) / name; }
+    std::filesystem::path ledger() const { return home() / "ledger.sqlite"; }
+};
+
+struct CampaignSpec {
+    CampaignPlace place;
+    std::string ranges;  // TOML file
+    std::string design = "lhs", scene, method = "mrf", mesh;
+    int n = 0;
+    long long seed = 1;
+    std::optional<double> cellSize, endTime, initialLoadingKg, steadyTol, steadyFlowTol;
+    std::string mesher = "ogrid";
+    double steadyResidence = scene::MixerScene{}.steadyResidence;
+    std::string numerics = scene::MixerNumerics{}.preset;
+};
+
+struct CampaignRunOptions {
+    int jobs = 1, np = 1;
+    double maxHours = 0;
+    bool snapshots = false, progress = true;
+    // Called after each finished run, one at a time (e.g. checking a surrogate against the campaign).
+    std::function<void()> afterRun;
+};
+
+// Every point becomes a validated scene before the ledger exists: bad input leaves nothing.
+nlohmann::json createCampaign(const CampaignSpec& spec);
+// Adds n points without repeating any: the Sobol sequence continues where the campaign stopped; a
+// Latin hypercube is augmented into the strata its points leave free.
+nlohmann::json extendCampaign(const CampaignPlace& place, int n);
+nlohmann::json campaignStatus(const CampaignPlace& place);
+nlohmann::json exportCampaignCsv(const CampaignPlace& place, const std::filesystem::path& csv);
+// Runs queued points, jobs at a time, until none is left or maxHours; counts in the summary.
+nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions& options);
+
+// The campaign recorded in the place's ledger; throws InputError if there is none.
+store::CampaignInfo openCampaign(const CampaignPlace& place, std::unique_ptr<store::Ledger>& ledger);
+// The scene of one design point of a campaign (its base with the point's parameters), validated.
+scene::MixerScene mixerSceneFor(const nlohmann::json& base, const nlohmann::json& params);
+scene::CollapseScene collapseSceneFor(const nlohmann::json& base, const nlohmann::json& params);
+
+}  // namespace mixload::experiments

@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "campaign/campaign_table.hpp"
+
+#include "campaign/campaign.hpp"
+#include "common/input_error.hpp"
+
+namespace mixload::experiments {
+
+surrogates::Table campaignTable(const std::string& name, const std::string& dir, nlohmann::json& provenance) {
+    const CampaignPlace o{name, dir};
+    std::unique_ptr<store::Ledger> l;
+    const auto c = openCampaign(o, l);
+    if (c.scene != "mixer") throw InputError("campaign", name, "a mixer campaign (surrogates model the loading)");
+    provenance = {{"campaign", name},           {"ledger", o.ledger().string()},
+                  {"design", c.design},         {"seed", c.seed},
+                  {"base", c.sceneJson},        {"campaign_created", c.created},
+                  {"campaign_mixload_version", c.mixloadVersion}, {"campaign_git_commit", c.gitCommit}};
+    surrogates::Table t;
+    for (const auto& r : l->runs(name)) {
+        if (r.status != "done" || !r.result.value("steady", false) || !r.result.contains("loading_kg")) {
+            ++t.skipped;
+            continue;
+        }
+        // Every input as the run saw it: the base scene with the point's parameters applied.
+        const auto s = mixerSceneFor(c.sceneJson, r.params);
+        surrogates::Row row;
+        row.id = r.params.value("scene_hash", std::to_string(r.index));
+        row.x = {s.material.muS, s.material.muD, s.material.I0, s.material.grainDiameter,
+                 s.material.bulkDensity(), s.feedKgH, s.rpm};
+        row.m = r.result["loading_kg"].get<double>();
+        t.rows.push_back(row);
+    }
+    return t;
+}
+
+}  // namespace mixload::experiments

@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The users' question answered from a fitted surrogate: M for a formulation, and how M changes
+// from one formulation to another at given operating points, with each changed input's share.
+#pragma once
+#include <array>
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "model.hpp"
+
+namespace mixload::experiments {
+
+// The formulation's inputs among the surrogate's: mu_s, mu_d, i0, d, rho.
+inline constexpr std::array<size_t, 5> kMaterial{0, 1, 2, 3, 4};
+
+// One prediction as `predict --json` prints it: loading, 95% interval, whether the point lies in
+// the training box (and where not), the model and what it was trained on.
+nlohmann::json predictionJson(const surrogates::Surrogate& m, const surrogates::Point& x,
+                              const surrogates::Prediction& p, const std::string& modelPath);
+
+// For each (feed kg/h, rpm): both predictions, dM, dM/M, its 95% interval (the two errors taken
+// as independent), each changed input's effect alone from the base, and the interaction left.
+// Throws InputError for a point outside the physical ranges.
+nlohmann::json compareFormulations(const surrogates::Surrogate& m, const std::string& modelPath,
+                                   const surrogates::Point& base, const surrogates::Point& changed,
+                                   const std::vector<std::pair<double, double>>& operatingPoints);
+
+}  // namespace mixload::experiments
