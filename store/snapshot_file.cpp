@@ -82,8 +82,8 @@ SnapshotFile::SnapshotFile(const fs::path& file) : path_(file) {
         if (a.value("schema", std::string()) != kSnapshotSchema)
             throw std::runtime_error("not a mixload snapshot file (no schema = " + std::string(kSnapshotSchema) + ")");
         const int v = static_cast<int>(a.value("schema_version", 0.0));
-        if (v != kSnapshotSchemaVersion)
-            throw std::runtime_error("snapshot schema version " + std::to_string(v) + ", this mixload reads " +
+        if (v < 1 || v > kSnapshotSchemaVersion)
+            throw std::runtime_error("snapshot schema version " + std::to_string(v) + ", this mixload reads 1 to " +
                                      std::to_string(kSnapshotSchemaVersion));
         for (const char* need : {"/time", "/mesh/cell_volumes", "/mesh/owner", "/fields", "/params"})
             if (!h5::exists(file_, need)) throw std::runtime_error(std::string("missing ") + need);
@@ -133,6 +133,60 @@ Eigen::VectorXd SnapshotFile::column(const std::string& field, size_t timeIndex)
         const auto row = h5::readRow(file_, "/fields/" + storedFieldName(field), timeIndex);
         return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(row.data(), static_cast<Eigen::Index>(row.size())));
     });
+}
+
+namespace {
+Eigen::VectorXd rowOf(const h5::Handle& file, const fs::path& path, const std::string& dataset, size_t t,
+                      size_t times, const std::string& what) {
+    if (!h5::exists(file, dataset))
+        throw InputError(what, dataset, "a dataset of " + path.string() + " (snapshots exported by mixload 2 or later)");
+    if (t >= times) throw InputError("time index", std::to_string(t), "0.." + std::to_string(times - 1));
+    return named(path, [&] {
+        const auto row = h5::readRow(file, dataset, t);
+        return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(row.data(), static_cast<Eigen::Index>(row.size())));
+    });
+}
+}  // namespace
+
+Eigen::VectorXd SnapshotFile::boundaryColumn(const std::string& field, size_t t) const {
+    auto b = rowOf(file_, path_, "/boundary/" + storedFieldName(field), t, times_.size(), "boundary values");
+    if (b.hasNaN())
+        throw InputError("boundary values", field + " at t = " + std::to_string(times_[t]),
+                         "a time whose field file holds every patch value (see the dataset's missing_times in " +
+                             path_.string() + ")");
+    return b;
+}
+
+Eigen::VectorXd SnapshotFile::faceColumn(const std::string& field, size_t t) const {
+    return rowOf(file_, path_, "/faces/" + field, t, times_.size(), "face field");
+}
+
+std::vector<SnapshotFile::Patch> SnapshotFile::patches() const {
+    return named(path_, [&] {
+        std::vector<Patch> out;
+        const auto g = h5::openGroup(file_, "/mesh/patches");
+        for (const auto& name : members(g)) {
+            Patch p;
+            p.name = name;
+            for (const auto& a : h5::attrs(h5::openGroup(g, name))) {
+                if (a.name == "type") p.type = a.text;
+                else if (a.name == "start_face") p.start = static_cast<long long>(a.number);
+                else if (a.name == "n_faces") p.size = static_cast<long long>(a.number);
+            }
+            out.push_back(p);
+        }
+        // Groups list by name; operators need the mesh's face order.
+        std::sort(out.begin(), out.end(), [](const Patch& a, const Patch& b) { return a.start < b.start; });
+        return out;
+    });
+}
+
+std::vector<double> SnapshotFile::meshDoubles(const std::string& name) const {
+    return named(path_, [&] { return h5::readDoubles(file_, "/mesh/" + name); });
+}
+
+std::vector<int32_t> SnapshotFile::meshInts(const std::string& name) const {
+    return named(path_, [&] { return h5::readInts(file_, "/mesh/" + name); });
 }
 
 Eigen::MatrixXd SnapshotFile::matrix(const std::string& field, const std::vector<size_t>& timeIndices) const {

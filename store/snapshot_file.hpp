@@ -17,7 +17,8 @@
 namespace mixload::store {
 
 inline constexpr const char* kSnapshotSchema = "mixload-snapshots";
-inline constexpr int kSnapshotSchemaVersion = 1;
+// 2 adds /boundary/<field> (values on the non-empty patches' faces) and /faces/phi; 1 is still read.
+inline constexpr int kSnapshotSchemaVersion = 2;
 
 // "alpha" is the powder fraction, stored under OpenFOAM's name.
 std::string storedFieldName(const std::string& field);
@@ -40,11 +41,24 @@ public:
     int components(const std::string& field) const;  // 1 (scalar) or 3 (vector)
     // One time as a column: cells (scalar) or 3 x cells, the components of a cell together.
     Eigen::VectorXd column(const std::string& field, size_t timeIndex) const;
+    // The field's values on the non-empty patches' faces at one time (schema 2; InputError for a
+    // file without them), components together per face.
+    Eigen::VectorXd boundaryColumn(const std::string& field, size_t timeIndex) const;
+    // A face field (phi): internal faces, then the non-empty patches' faces.
+    Eigen::VectorXd faceColumn(const std::string& field, size_t timeIndex) const;
     // Every time (or the given ones) as columns.
     Eigen::MatrixXd matrix(const std::string& field, const std::vector<size_t>& timeIndices = {}) const;
     // Provenance, params, time range and every dataset's shape, type and stored size; verify reads
     // every dataset, so a corrupt chunk (checksum) is reported.
     nlohmann::json info(bool verify = true) const;
+
+    struct Patch {
+        std::string name, type;
+        long long start = 0, size = 0;
+    };
+    std::vector<Patch> patches() const;
+    std::vector<double> meshDoubles(const std::string& name) const;  // /mesh/<name>, flattened
+    std::vector<int32_t> meshInts(const std::string& name) const;
 
 private:
     std::filesystem::path path_;

@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstring>
+#include <map>
 #include <regex>
 #include <stdexcept>
 
@@ -101,6 +103,7 @@ public:
         if (n < 0) fail("negative list size");
         std::vector<S> out(static_cast<size_t>(n) * K);
         const char c = peek();
+        if (n == 0 && c != '(' && c != '{') return out;  // binary files write an empty list as "0"
         if (c == '{') {  // all elements equal
             ++pos_;
             const auto one = element<S, K>();
@@ -169,6 +172,75 @@ private:
 };
 
 std::vector<int32_t> labelList(const fs::path& file) { return FoamReader(file).list<int32_t, 1>(); }
+
+// One patch's dictionary in a field file: its type and, if written, its `value` (n x K numbers,
+// a uniform value expanded). Other entries (inletValue, refValue, ...) are read past.
+struct PatchEntry {
+    std::string type;
+    std::vector<double> value;
+    bool hasValue = false;
+};
+
+std::vector<double> anyList(FoamReader& r, const std::string& type) {
+    if (type == "List<scalar>") return r.list<double, 1>();
+    if (type == "List<vector>") return r.list<double, 3>();
+    if (type == "List<symmTensor>") return r.list<double, 6>();
+    if (type == "List<tensor>") return r.list<double, 9>();
+    r.fail("a list of type " + type);
+}
+
+// The rest of an entry up to its ';': uniform X, nonuniform List<T> N(...), words, (...) groups.
+std::vector<double> entryNumbers(FoamReader& r, bool& uniform) {
+    std::vector<double> out;
+    uniform = false;
+    while (r.peek() != ';') {
+        if (r.peek() == '(') {
+            r.expect('(');
+            while (r.peek() != ')') out.push_back(r.number<double>());
+            r.expect(')');
+            continue;
+        }
+        const std::string w = r.word();
+        if (w == "uniform") uniform = true;
+        else if (w == "nonuniform") {
+            // An empty patch writes "nonuniform 0()": no type word.
+            if (std::isdigit(static_cast<unsigned char>(r.peek()))) out = r.list<double, 1>();
+            else out = anyList(r, r.word());
+        }
+        else if (const auto v = parseNumber(w)) out.push_back(*v);
+    }
+    r.expect(';');
+    return out;
+}
+
+PatchEntry readPatchEntry(FoamReader& r, size_t faces, int components) {
+    PatchEntry e;
+    r.expect('{');
+    while (r.peek() != '}') {
+        const std::string key = r.word();
+        if (key == "type") {
+            e.type = r.word();
+            r.expect(';');
+            continue;
+        }
+        bool uniform = false;
+        auto v = entryNumbers(r, uniform);
+        if (key != "value" || e.type == "empty") continue;  // an empty patch has no faces in fields
+        e.hasValue = true;
+        if (uniform) {
+            if (v.size() != static_cast<size_t>(components)) r.fail("uniform value of the wrong size");
+            e.value.resize(faces * components);
+            for (size_t i = 0; i < e.value.size(); ++i) e.value[i] = v[i % components];
+        } else {
+            if (v.size() != faces * components) r.fail("value has the wrong number of entries");
+            e.value = std::move(v);
+        }
+    }
+    r.expect('}');
+    return e;
+}
+
+
 
 std::vector<FoamPatch> readBoundary(const fs::path& file) {
     FoamReader r(file);
@@ -288,6 +360,89 @@ std::vector<std::string> timeDirectories(const fs::path& caseDir) {
     std::sort(times.begin(), times.end());
     std::vector<std::string> out;
     for (auto& t : times) out.push_back(t.second);
+    return out;
+}
+
+}  // namespace mixload::post
+
+namespace mixload::post {
+
+namespace {
+// The patches' entries of a field file, by patch name.
+std::map<std::string, PatchEntry> boundaryEntries(FoamReader& r, const FoamMesh& mesh, int components) {
+    r.seekKeyword("boundaryField");
+    r.expect('{');
+    std::map<std::string, PatchEntry> out;
+    while (r.peek() != '}') {
+        const std::string name = r.word();
+        const auto p = std::find_if(mesh.patches.begin(), mesh.patches.end(), [&](const FoamPatch& q) { return q.name == name; });
+        if (p == mesh.patches.end()) r.fail("boundaryField entry " + name + " is not a patch of the mesh");
+        out[name] = readPatchEntry(r, static_cast<size_t>(p->size), components);
+    }
+    return out;
+}
+}  // namespace
+
+std::vector<double> readBoundaryValues(const fs::path& file, const FoamMesh& mesh, const FoamField& internal,
+                                       const std::vector<Vec3>& faceAreas) {
+    FoamReader r(file);
+    const auto entries = boundaryEntries(r, mesh, internal.components);
+    const auto k = static_cast<size_t>(internal.components);
+    std::vector<double> out;
+    for (const auto& p : mesh.patches) {
+        if (p.type == "empty") continue;
+        const auto e = entries.find(p.name);
+        if (e == entries.end()) r.fail("no boundaryField entry for patch " + p.name);
+        if (e->second.hasValue) {
+            out.insert(out.end(), e->second.value.begin(), e->second.value.end());
+            continue;
+        }
+        // No value written: what the patch type implies, or a clear refusal (never a guess).
+        const std::string& type = e->second.type;
+        if (type == "noSlip") {
+            out.insert(out.end(), static_cast<size_t>(p.size) * k, 0.0);
+        } else if (type == "zeroGradient") {
+            for (int32_t f = p.start; f < p.start + p.size; ++f)
+                for (size_t c = 0; c < k; ++c) out.push_back(internal.values[static_cast<size_t>(mesh.owner[f]) * k + c]);
+        } else if (type == "slip" || type == "symmetry" || type == "symmetryPlane") {
+            // basicSymmetry: the cell value without its normal component (scalars: the cell value).
+            for (int32_t f = p.start; f < p.start + p.size; ++f) {
+                const double* u = &internal.values[static_cast<size_t>(mesh.owner[f]) * k];
+                if (k != 3) {
+                    out.insert(out.end(), u, u + k);
+                    continue;
+                }
+                const auto& s = faceAreas.at(static_cast<size_t>(f));
+                const double a = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+                const double un = (u[0] * s[0] + u[1] * s[1] + u[2] * s[2]) / a;
+                for (int c = 0; c < 3; ++c) out.push_back(u[c] - un * s[c] / a);
+            }
+        } else {
+            r.fail("patch " + p.name + " of type " + type +
+                   " writes no value (mixload reads zeroGradient, noSlip, slip and symmetry)");
+        }
+    }
+    return out;
+}
+
+std::vector<double> readSurfaceField(const fs::path& file, const FoamMesh& mesh) {
+    FoamReader r(file);
+    if (r.klass() != "surfaceScalarField") r.fail("class " + r.klass() + " (expected surfaceScalarField)");
+    r.seekKeyword("internalField");
+    const size_t nInternal = mesh.neighbour.size();
+    std::vector<double> out;
+    const std::string kind = r.word();
+    if (kind == "uniform") out.assign(nInternal, r.number<double>());
+    else if (kind == "nonuniform") out = anyList(r, r.word());
+    else r.fail("internalField is neither uniform nor nonuniform");
+    if (out.size() != nInternal) r.fail("internalField has " + std::to_string(out.size()) + " values for " + std::to_string(nInternal) + " internal faces");
+    const auto entries = boundaryEntries(r, mesh, 1);
+    for (const auto& p : mesh.patches) {
+        if (p.type == "empty") continue;
+        const auto e = entries.find(p.name);
+        if (e == entries.end() || !e->second.hasValue) r.fail("no value for patch " + p.name);
+        out.insert(out.end(), e->second.value.begin(), e->second.value.end());
+    }
     return out;
 }
 

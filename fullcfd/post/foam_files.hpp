@@ -43,6 +43,16 @@ struct FoamField {
 };
 FoamField readInternalField(const std::filesystem::path& file, int32_t nCells);
 
+// The values of a volume field on every non-empty patch's faces, in mesh patch order (the boundary
+// faces a finite-volume operator sees), components together per face: the written `value` where
+// the patch has one, else the owner cell's value (zeroGradient), zero (noSlip) or the cell value
+// without its normal component (slip, symmetry: faceAreas give the normals); any other type that
+// writes no value is refused.
+std::vector<double> readBoundaryValues(const std::filesystem::path& file, const FoamMesh& mesh,
+                                       const FoamField& internal, const std::vector<Vec3>& faceAreas);
+// A surfaceScalarField (e.g. phi): the internal faces, then every non-empty patch's faces.
+std::vector<double> readSurfaceField(const std::filesystem::path& file, const FoamMesh& mesh);
+
 // Time directories of a case (numeric names), sorted by time; the names as written.
 std::vector<std::string> timeDirectories(const std::filesystem::path& caseDir);
 

@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <map>
@@ -235,6 +236,7 @@ nlohmann::json exportSnapshots(const SnapshotExport& e) {
             const hsize_t nT = picked.size(), nC = mesh.nCells;
             const auto stored = e.float64 ? h5::Stored::Float64 : h5::Stored::Float32;
             for (const auto& f : names) {
+                if (f == "phi") continue;  // a face field: /faces below
                 // The first time read tells scalar or vector; the dataset is made from it.
                 h5::Handle d;
                 int comps = 0;
@@ -253,6 +255,45 @@ nlohmann::json exportSnapshots(const SnapshotExport& e) {
                     h5::writeRow(d, i, v.values);
                 }
                 written.emplace_back(f, comps);
+            }
+            // The fields' values on the non-empty patches' faces (what operators need at the
+            // boundary), and face fields (phi): internal faces, then the non-empty patches' faces.
+            auto bg = h5::createGroup(file, "boundary");
+            hsize_t nB = 0;
+            for (const auto& p : mesh.patches)
+                if (p.type != "empty") nB += static_cast<hsize_t>(p.size);
+            for (const auto& [f, comps] : written) {
+                auto d = h5::createDataset(bg, f, comps == 1 ? std::vector<hsize_t>{nT, nB} : std::vector<hsize_t>{nT, nB, 3},
+                                           stored, true);
+                h5::attr(d, "source", std::string("OpenFOAM <time>/") + f + ", boundaryField of the non-empty patches");
+                // A time whose file lacks a patch value (mixload's own initial fields omit some) is
+                // stored as NaN and named, never filled in.
+                nlohmann::json missing = nlohmann::json::object();
+                for (size_t i = 0; i < picked.size(); ++i) {
+                    const auto v = readInternalField(run / picked[i] / f, mesh.nCells);
+                    std::vector<double> b;
+                    try {
+                        b = readBoundaryValues(run / picked[i] / f, mesh, v, geo.faceAreas);
+                    } catch (const std::runtime_error& ex) {
+                        missing[picked[i]] = ex.what();
+                        b.assign(nB * static_cast<hsize_t>(comps), std::nan(""));
+                    }
+                    h5::writeRow(d, i, b);
+                }
+                h5::attr(d, "missing_times", missing.dump());
+            }
+            if (std::find(names.begin(), names.end(), "phi") != names.end()) {
+                auto faces = h5::createGroup(file, "faces");
+                h5::Handle d;
+                for (size_t i = 0; i < picked.size(); ++i) {
+                    const auto v = readSurfaceField(run / picked[i] / "phi", mesh);
+                    if (i == 0) {
+                        d = h5::createDataset(faces, "phi", {nT, v.size()}, stored, true);
+                        h5::attr(d, "units", std::string("m3/s"));
+                        h5::attr(d, "source", std::string("OpenFOAM <time>/phi: internal faces, then the non-empty patches' faces"));
+                    }
+                    h5::writeRow(d, i, v);
+                }
             }
             if (moving) {
                 auto d = h5::createDataset(fg, "cell_centres", {nT, nC, 3}, h5::Stored::Float64, true);

@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "rom/fv_operators.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace mixload::rom {
+
+namespace {
+void requireSizes(const FvMesh& m, Eigen::Index cells, Eigen::Index boundary) {
+    if (cells != m.cells || boundary != m.boundaryFaces)
+        throw std::invalid_argument("fv operator: " + std::to_string(cells) + " cell and " + std::to_string(boundary) +
+                                    " boundary values for a mesh of " + std::to_string(m.cells) + " cells and " +
+                                    std::to_string(m.boundaryFaces) + " boundary faces");
+}
+}  // namespace
+
+Eigen::VectorXd interpolate(const FvMesh& m, const Eigen::VectorXd& cells, const Eigen::VectorXd& boundary) {
+    requireSizes(m, cells.size(), boundary.size());
+    Eigen::VectorXd f(m.faces());
+    for (Eigen::Index i = 0; i < m.internalFaces; ++i) {
+        const double w = m.weights[i];
+        f[i] = w * cells[m.owner[i]] + (1 - w) * cells[m.neighbour[i]];
+    }
+    f.tail(m.boundaryFaces) = boundary;
+    return f;
+}
+
+Vectors grad(const FvMesh& m, const Eigen::VectorXd& cells, const Eigen::VectorXd& boundary) {
+    const Eigen::VectorXd f = interpolate(m, cells, boundary);
+    Vectors g = Vectors::Zero(m.cells, 3);
+    for (Eigen::Index i = 0; i < m.faces(); ++i) {
+        const Eigen::RowVector3d s = m.Sf.row(i) * f[i];
+        g.row(m.owner[i]) += s;
+        if (i < m.internalFaces) g.row(m.neighbour[i]) -= s;
+    }
+    return g.array().colwise() / m.V.array();
+}
+
+Eigen::VectorXd div(const FvMesh& m, const Eigen::VectorXd& flux) {
+    if (flux.size() != m.faces())
+        throw std::invalid_argument("fv div: " + std::to_string(flux.size()) + " face values for " +
+                                    std::to_string(m.faces()) + " faces");
+    Eigen::VectorXd d = Eigen::VectorXd::Zero(m.cells);
+    for (Eigen::Index i = 0; i < m.faces(); ++i) {
+        d[m.owner[i]] += flux[i];
+        if (i < m.internalFaces) d[m.neighbour[i]] -= flux[i];
+    }
+    return d.cwiseQuotient(m.V);
+}
+
+Eigen::VectorXd laplacian(const FvMesh& m, const Eigen::VectorXd& cells, const Eigen::VectorXd& boundary) {
+    const Vectors g = grad(m, cells, boundary);
+    Eigen::VectorXd flux(m.faces());
+    for (Eigen::Index i = 0; i < m.internalFaces; ++i) {
+        const auto o = m.owner[i], n = m.neighbour[i];
+        const double w = m.weights[i];
+        // correctedSnGrad: the orthogonal part plus the correction from the interpolated gradient.
+        const Eigen::RowVector3d gf = w * g.row(o) + (1 - w) * g.row(n);
+        flux[i] = m.magSf[i] * (m.deltaCoeffs[i] * (cells[n] - cells[o]) + m.corrVecs.row(i).dot(gf));
+    }
+    for (Eigen::Index i = m.internalFaces; i < m.faces(); ++i)
+        flux[i] = m.magSf[i] * m.deltaCoeffs[i] * (boundary[i - m.internalFaces] - cells[m.owner[i]]);
+    return div(m, flux);
+}
+
+Eigen::VectorXd strainRate(const FvMesh& m, const Vectors& U, const Vectors& boundaryU) {
+    requireSizes(m, U.rows(), boundaryU.rows());
+    Vectors gx = grad(m, U.col(0), boundaryU.col(0)), gy = grad(m, U.col(1), boundaryU.col(1)),
+            gz = grad(m, U.col(2), boundaryU.col(2));
+    Eigen::VectorXd out(m.cells);
+    for (Eigen::Index c = 0; c < m.cells; ++c) {
+        Eigen::Matrix3d t;  // t(i, j) = dU_j / dx_i, as OpenFOAM's grad(U)
+        t.col(0) = gx.row(c).transpose();
+        t.col(1) = gy.row(c).transpose();
+        t.col(2) = gz.row(c).transpose();
+        const Eigen::Matrix3d s = 0.5 * (t + t.transpose());
+        out[c] = std::sqrt(2.0) * std::sqrt((s.array() * s.array()).sum());
+    }
+    return out;
+}
+
+}  // namespace mixload::rom

@@ -1,0 +1,28 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Explicit finite-volume operators on an FvMesh, the discrete operators of OpenFOAM's fvc with the
+// schemes mixload's cases use (linear interpolation, Gauss linear gradient, Gauss linear corrected
+// Laplacian): the building blocks of the reduced models' projected equations. Boundary values are
+// given per non-empty boundary face (as snapshot files store them); for the Laplacian the boundary
+// normal gradient is deltaCoeff (phi_b - phi_P), which is what fixedValue, zeroGradient, calculated
+// and inletOutlet patches give. Verified against OpenFOAM's own fvc on real runs
+// (tests/cfd/test_fv_operators.cpp).
+#pragma once
+#include <Eigen/Dense>
+
+#include "rom/fv_mesh.hpp"
+
+namespace mixload::rom {
+
+// Face values: internal faces by linear interpolation, boundary faces as given.
+Eigen::VectorXd interpolate(const FvMesh& m, const Eigen::VectorXd& cells, const Eigen::VectorXd& boundary);
+// Gauss linear gradient of a scalar: (1/V) sum_f Sf phi_f.
+Vectors grad(const FvMesh& m, const Eigen::VectorXd& cells, const Eigen::VectorXd& boundary);
+// Divergence of a face flux (internal then boundary faces): (1/V) sum_f +-flux_f.
+Eigen::VectorXd div(const FvMesh& m, const Eigen::VectorXd& faceFlux);
+// Gauss linear corrected Laplacian of a scalar (unit diffusivity).
+Eigen::VectorXd laplacian(const FvMesh& m, const Eigen::VectorXd& cells, const Eigen::VectorXd& boundary);
+// The mu(I) shear rate sqrt(2) |sym(grad U)| from the Gauss linear gradient of U (cells x 3 and
+// boundary faces x 3, row-major as snapshots store them).
+Eigen::VectorXd strainRate(const FvMesh& m, const Vectors& U, const Vectors& boundaryU);
+
+}  // namespace mixload::rom
