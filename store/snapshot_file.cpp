@@ -107,6 +107,12 @@ nlohmann::json SnapshotFile::params() const {
     });
 }
 
+nlohmann::json SnapshotFile::powderTransport() const {
+    if (!h5::exists(file_, "/params/powder_transport"))
+        throw InputError("powder transport", path_.string(), "a snapshot file exported by this mixload (re-export the run)");
+    return named(path_, [&] { return attrsJson(h5::openGroup(file_, "/params/powder_transport")); });
+}
+
 std::vector<std::string> SnapshotFile::fields() const {
     return named(path_, [&] {
         std::vector<std::string> out;

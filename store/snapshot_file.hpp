@@ -37,6 +37,9 @@ public:
     const std::string& meshFingerprint() const { return fingerprint_; }
     nlohmann::json provenance() const;
     nlohmann::json params() const;  // every scene input (without the verbatim scene_json)
+    // The powder's viscosity model and coefficients as the solver read them (InputError if the file
+    // predates them).
+    nlohmann::json powderTransport() const;
     std::vector<std::string> fields() const;
     int components(const std::string& field) const;  // 1 (scalar) or 3 (vector)
     // One time as a column: cells (scalar) or 3 x cells, the components of a cell together.

@@ -350,6 +350,25 @@ FoamField readInternalField(const fs::path& file, int32_t nCells) {
     return f;
 }
 
+PowderTransport readPowderTransport(const fs::path& caseDir) {
+    const fs::path file = caseDir / "constant" / "transportProperties";
+    const std::string text = readFile(file);
+    std::smatch m;
+    // mixload writes the powder phase first: "powder { transportModel X; rho R; XCoeffs { k v; ... } }".
+    if (!std::regex_search(text, m, std::regex("powder\\s*\\{\\s*transportModel\\s+(\\w+);\\s*rho\\s+([^;]+);\\s*(\\w+)Coeffs\\s*\\{([^}]*)\\}")))
+        throw std::runtime_error(file.string() + ": no powder phase with transportModel, rho and its Coeffs");
+    PowderTransport t;
+    t.model = m[1];
+    const auto rho = parseNumber(m[2].str());
+    if (!rho) throw std::runtime_error(file.string() + ": powder rho is not a number");
+    t.values.emplace_back("rho", *rho);
+    const std::string coeffs = m[4];
+    const std::regex entry("(\\w+)\\s+([^;\\s]+)\\s*;");
+    for (auto it = std::sregex_iterator(coeffs.begin(), coeffs.end(), entry); it != std::sregex_iterator(); ++it)
+        if (const auto v = parseNumber((*it)[2].str())) t.values.emplace_back((*it)[1].str(), *v);
+    return t;
+}
+
 std::vector<std::string> timeDirectories(const fs::path& caseDir) {
     std::vector<std::pair<double, std::string>> times;
     for (const auto& e : fs::directory_iterator(caseDir)) {

@@ -53,6 +53,14 @@ std::vector<double> readBoundaryValues(const std::filesystem::path& file, const 
 // A surfaceScalarField (e.g. phi): the internal faces, then every non-empty patch's faces.
 std::vector<double> readSurfaceField(const std::filesystem::path& file, const FoamMesh& mesh);
 
+// The powder phase's viscosity model and coefficients as constant/transportProperties gives them
+// to the solver (model name under "model", then rho and every <model>Coeffs number).
+struct PowderTransport {
+    std::string model;
+    std::vector<std::pair<std::string, double>> values;
+};
+PowderTransport readPowderTransport(const std::filesystem::path& caseDir);
+
 // Time directories of a case (numeric names), sorted by time; the names as written.
 std::vector<std::string> timeDirectories(const std::filesystem::path& caseDir);
 

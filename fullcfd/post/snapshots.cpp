@@ -209,6 +209,14 @@ nlohmann::json exportSnapshots(const SnapshotExport& e) {
             auto params = h5::createGroup(file, "params");
             writeParams(params, sceneJson["scene"], "");
             h5::attr(params, "scene_json", sceneJson.dump());
+            // The viscosity coefficients exactly as the solver read them (reduced models evaluate
+            // the same law).
+            if (fs::exists(run / "constant" / "transportProperties")) {
+                const auto t = readPowderTransport(run);
+                auto g = h5::createGroup(params, "powder_transport");
+                h5::attr(g, "model", t.model);
+                for (const auto& [k, v] : t.values) h5::attr(g, k, v);
+            }
         }
         {
             auto g = h5::createGroup(file, "mesh");

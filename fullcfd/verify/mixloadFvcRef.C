@@ -10,9 +10,11 @@
     fvcRef.div.phi             fvc::div(phi)
     fvcRef.laplacian.alpha     fvc::laplacian(alpha)              (laplacianSchemes)
     fvcRef.strainRate          sqrt(2) |symm(fvc::grad(U))|       (the mu(I) shear rate)
+    fvcRef.nu.powder           the powder's viscosity model (transportProperties, with p) evaluated
 \*---------------------------------------------------------------------------*/
 
 #include "fvCFD.H"
+#include "viscosityModel.H"
 
 template<class FieldType>
 void writeBinary(const FieldType& f)
@@ -66,6 +68,24 @@ int main(int argc, char *argv[])
         writeBinary(lapAlpha);
         volScalarField strainRate("fvcRef.strainRate", Foam::sqrt(scalar(2))*mag(symm(fvc::grad(U))));
         writeBinary(strainRate);
+
+        // The powder's viscosity model as the solver builds it; it finds p in the registry.
+        volScalarField p
+        (
+            IOobject("p", runTime.timeName(), mesh, IOobject::MUST_READ, IOobject::NO_WRITE),
+            mesh
+        );
+        IOdictionary transport
+        (
+            IOobject("transportProperties", runTime.constant(), mesh, IOobject::MUST_READ, IOobject::NO_WRITE, false)
+        );
+        autoPtr<viscosityModel> powder
+        (
+            viscosityModel::New("fvcRef.nuModel", transport.subDict("powder"), U, phi)
+        );
+        powder->correct();
+        volScalarField nuPowder("fvcRef.nu.powder", powder->nu());
+        writeBinary(nuPowder);
     }
     Info<< "End" << endl;
     return 0;
