@@ -12,6 +12,7 @@
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
 #include "rom/pod_model.hpp"
+#include "rom/viscosity_deim.hpp"
 #include "store/snapshot_file.hpp"
 
 namespace mixload::app {
@@ -22,10 +23,18 @@ namespace {
 struct PodCmd {
     std::vector<std::string> files, fields{"alpha"};
     std::string campaign, dir = "runs/campaigns", output;
-    int modes = 0;
+    int modes = 0, deimModes = 10;
     double energy = 0.9999;
-    bool noMean = false, json = false;
+    bool noMean = false, json = false, logSpace = false;
 };
+
+// The files named, or a campaign's: one of the two.
+std::vector<fs::path> snapshotFiles(const PodCmd& o) {
+    if (o.files.empty() == o.campaign.empty())
+        throw InputError("FILES", o.files.empty() ? "(none)" : "with --campaign", "snapshot files or --campaign NAME, not both");
+    return o.campaign.empty() ? std::vector<fs::path>(o.files.begin(), o.files.end())
+                              : store::campaignSnapshotFiles(fs::path(o.dir) / o.campaign / "ledger.sqlite", o.campaign);
+}
 
 double peakRssBytes() {
     rusage u{};
@@ -85,13 +94,7 @@ void addRom(CLI::App& app, Action& action) {
     pod->add_flag("--json", o->json, "Print the summary as JSON");
     pod->callback([&action, o] {
         action = [o] {
-            if (o->files.empty() == o->campaign.empty())
-                throw InputError("FILES", o->files.empty() ? "(none)" : "with --campaign",
-                                 "snapshot files or --campaign NAME, not both");
-            const auto files = o->campaign.empty()
-                                   ? std::vector<fs::path>(o->files.begin(), o->files.end())
-                                   : store::campaignSnapshotFiles(fs::path(o->dir) / o->campaign / "ledger.sqlite",
-                                                                  o->campaign);
+            const auto files = snapshotFiles(*o);
             rom::PodOptions opt;
             opt.maxModes = o->modes;
             opt.energy = o->energy;
@@ -137,6 +140,41 @@ void addRom(CLI::App& app, Action& action) {
                       << peakRssBytes() / 1e6 << " MB, " << wall << " s\n  spectrum: "
                       << j["spectrum_png"].get<std::string>() << '\n';
             if (!warn.empty()) std::cout << "  warning: " << warn << '\n';
+            return 0;
+        };
+    });
+
+    auto* deim = cmd->add_subcommand(
+        "deim", "Hyper-reduction of the mu(I) viscosity: DEIM on the viscosity of stored snapshots (their U and p), "
+                "trained on every other time, errors on all");
+    deim->add_option("FILES", o->files, "Snapshot files with U, p and boundary values (schema 2)");
+    deim->add_option("--campaign", o->campaign, "Use the snapshot files of this campaign's finished runs instead");
+    deim->add_option("--dir", o->dir, "Campaign directory (with --campaign)")->capture_default_str();
+    deim->add_option("--modes", o->deimModes, "Largest number of DEIM points (= viscosity POD modes)")->capture_default_str();
+    deim->add_flag("--log", o->logSpace, "Interpolate log(nu) instead of nu");
+    deim->add_flag("--json", o->json, "Print JSON");
+    deim->callback([&action, o] {
+        action = [o] {
+            rom::ViscosityDeimOptions opt;
+            opt.modes = o->deimModes;
+            opt.logSpace = o->logSpace;
+            const store::SnapshotSet set(snapshotFiles(*o));
+            const auto j = rom::viscosityDeim(set, opt);
+            if (o->json) {
+                std::cout << j.dump(2) << '\n';
+                return 0;
+            }
+            std::cout << "DEIM of the mu(I) viscosity" << (o->logSpace ? " (log nu)" : "") << ": " << j["cells"]
+                      << " cells, " << j["train_snapshots"] << " training and " << j["holdout_snapshots"]
+                      << " held-out snapshots; relative L2 error of nu (mean / max)\n  points  training          hold-out\n";
+            for (const auto& r : j["by_modes"]) {
+                std::cout << "  " << std::setw(6) << r["modes"].get<int>() << "  " << std::setprecision(3) << std::setw(8)
+                          << r["train"]["mean"].get<double>() << " / " << std::setw(8) << r["train"]["max"].get<double>();
+                if (!r["holdout"].is_null())
+                    std::cout << "  " << std::setw(8) << r["holdout"]["mean"].get<double>() << " / " << std::setw(8)
+                              << r["holdout"]["max"].get<double>();
+                std::cout << '\n';
+            }
             return 0;
         };
     });

@@ -79,3 +79,25 @@ TEST(RomPod, RefusesMixedMeshesBadOptionsAndUnknownFields) {
     refused({}, "invalid FILES");
     refused({(a.parent_path() / "nothing.h5").string()}, "no such file");
 }
+
+TEST(RomDeim, ViscosityOfARealCollapseIsExactAtFullRankAndReportsItsHoldOut) {
+    const fs::path h5 = collapseSnapshots("deim", "8");
+    const store::SnapshotFile f(h5);
+    const size_t train = (f.times().size() + 1) / 2;
+    auto r = runMixload({"rom", "deim", h5.string(), "--modes", std::to_string(train), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["train_snapshots"], train);
+    EXPECT_EQ(j["holdout_snapshots"], f.times().size() - train);
+    const auto& rows = j["by_modes"];
+    ASSERT_EQ(rows.size(), train);
+    // As many points as training snapshots: those are reproduced to round-off.
+    EXPECT_LT(rows.back()["train"]["max"].get<double>(), 1e-8);
+    // Held-out times are not; the error is reported, whatever it is, and falls with more points.
+    EXPECT_GT(rows.back()["holdout"]["mean"].get<double>(), 0.0);
+    EXPECT_LT(rows.back()["holdout"]["mean"].get<double>(), rows.front()["holdout"]["mean"].get<double>());
+    EXPECT_EQ(rows.back()["points"].size(), train);
+    r = runMixload({"rom", "deim", h5.string(), "--modes", "0"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_NE(r.err.find("invalid modes = 0"), std::string::npos) << r.err;
+}

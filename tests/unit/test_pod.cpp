@@ -6,6 +6,9 @@
 
 #include <random>
 
+#include <set>
+
+#include "rom/deim.hpp"
 #include "rom/pod.hpp"
 
 using namespace mixload::rom;
@@ -127,4 +130,19 @@ TEST(Pod, BadInputIsRefused) {
     EXPECT_THROW(computePod(0, [&](size_t) { return d.x; }, d.w, {}), std::invalid_argument);
     EXPECT_THROW(computePod(1, [&](size_t) { return Eigen::MatrixXd(d.x.topRows(5)); }, d.w, {}),
                  std::invalid_argument);
+}
+
+TEST(Deim, ExactInTheSpanOfItsBasisWithDistinctPoints) {
+    const auto d = synthetic(80, 6, 6, 0.0, 7);
+    const Eigen::MatrixXd q = d.x.householderQr().householderQ() * Eigen::MatrixXd::Identity(80, 6);
+    const auto deim = buildDeim(q);
+    ASSERT_EQ(deim.points.size(), 6u);
+    EXPECT_EQ(std::set<Eigen::Index>(deim.points.begin(), deim.points.end()).size(), 6u);
+    const Eigen::VectorXd f = q * Eigen::VectorXd::LinSpaced(6, 1, 6);
+    EXPECT_LT(deim.relativeError(f), 1e-12);
+    // Outside the span the error is what the basis misses, amplified by at most ||(P^T U)^-1||.
+    const Eigen::VectorXd g = Eigen::VectorXd::Ones(80);
+    const Eigen::VectorXd miss = g - q * (q.transpose() * g);
+    EXPECT_LE(deim.relativeError(g) * g.norm(), (1 + deim.pInverse.norm()) * miss.norm() + 1e-12);
+    EXPECT_THROW(buildDeim(Eigen::MatrixXd(q.leftCols(2).replicate(1, 2))), std::invalid_argument);
 }

@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "rom/viscosity_deim.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/input_error.hpp"
+#include "rom/deim.hpp"
+#include "rom/fv_operators.hpp"
+#include "rom/granular_viscosity.hpp"
+#include "rom/pod.hpp"
+
+namespace mixload::rom {
+
+namespace {
+Vectors asVectors(const Eigen::VectorXd& v) { return Eigen::Map<const Vectors>(v.data(), v.size() / 3, 3); }
+}  // namespace
+
+nlohmann::json viscosityDeim(const store::SnapshotSet& set, const ViscosityDeimOptions& o) {
+    requireRange("modes", o.modes, 1, 10000);
+    const auto& first = set.files().front();
+    const auto mesh = FvMesh::fromSnapshot(first);
+    const auto law = GranularLaw::fromSnapshot(first);
+    // Every snapshot's viscosity; even positions (over the whole set) train, odd ones are held out.
+    std::vector<Eigen::VectorXd> train, test;
+    size_t k = 0;
+    for (const auto& f : set.files())
+        for (size_t t = 0; t < f.times().size(); ++t, ++k) {
+            const Eigen::VectorXd sr = strainRate(mesh, asVectors(f.column("U", t)), asVectors(f.boundaryColumn("U", t)));
+            Eigen::VectorXd nu = law.nu(sr, f.column("p", t));
+            (k % 2 == 0 ? train : test).push_back(nu);
+        }
+    if (train.size() < 2) throw InputError("snapshots", std::to_string(k), "at least 2 stored times (4 for a hold-out)");
+    const auto transform = [&](const Eigen::VectorXd& nu) { return o.logSpace ? Eigen::VectorXd(nu.array().log()) : nu; };
+    const auto back = [&](const Eigen::VectorXd& v) { return o.logSpace ? Eigen::VectorXd(v.array().exp()) : v; };
+    Eigen::MatrixXd x(mesh.cells, static_cast<Eigen::Index>(train.size()));
+    for (size_t j = 0; j < train.size(); ++j) x.col(static_cast<Eigen::Index>(j)) = transform(train[j]);
+    PodOptions po;
+    po.energy = 1.0;
+    po.subtractMean = false;  // DEIM interpolates the field itself
+    po.maxModes = o.modes;
+    const auto pod = computePod(1, [&](size_t) { return x; }, mesh.V, po);
+    nlohmann::json rows = nlohmann::json::array();
+    for (Eigen::Index m = 1; m <= pod.modes.cols(); ++m) {
+        const auto d = buildDeim(pod.modes.leftCols(m));
+        const auto errors = [&](const std::vector<Eigen::VectorXd>& nus) {
+            double mean = 0, worst = 0;
+            for (const auto& nu : nus) {
+                const Eigen::VectorXd e = back(d.reconstruct(d.sample(transform(nu)))) - nu;
+                const double r = std::sqrt(e.cwiseProduct(e).dot(mesh.V) / nu.cwiseProduct(nu).dot(mesh.V));
+                mean += r / double(nus.size());
+                worst = std::max(worst, r);
+            }
+            return nus.empty() ? nlohmann::json() : nlohmann::json{{"mean", mean}, {"max", worst}};
+        };
+        rows.push_back({{"modes", m}, {"train", errors(train)}, {"holdout", errors(test)}});
+        if (m == pod.modes.cols()) {
+            std::vector<Eigen::Index> pts = d.points;
+            rows.back()["points"] = pts;
+        }
+    }
+    return {{"cells", mesh.cells},
+            {"train_snapshots", train.size()},
+            {"holdout_snapshots", test.size()},
+            {"log_space", o.logSpace},
+            {"nu_range", {std::min_element(train.begin(), train.end(), [](auto& a, auto& b) { return a.minCoeff() < b.minCoeff(); })->minCoeff(),
+                          std::max_element(train.begin(), train.end(), [](auto& a, auto& b) { return a.maxCoeff() < b.maxCoeff(); })->maxCoeff()}},
+            {"by_modes", rows}};
+}
+
+}  // namespace mixload::rom
