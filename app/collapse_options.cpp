@@ -21,6 +21,9 @@ void CollapseOptions::add(CLI::App* cmd) {
     cmd->add_option("--rest-fraction", restFraction,
                     "At rest when kinetic energy < this x its peak for 0.5 t*")
         ->capture_default_str();
+    cmd->add_option("--writes-per-tstar", writesPerTstar,
+                    "Written times per t* (more for reduced models' snapshots; 4 keeps the run's hash)")
+        ->capture_default_str();
     cmd->add_option("--cap", capTstar, "End-time cap in t* (a run reaching it says stopped_by=cap)")
         ->capture_default_str();
 }

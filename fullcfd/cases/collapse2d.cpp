@@ -76,7 +76,7 @@ std::string controlDict(const scene::CollapseScene& s, const std::string& libs) 
        << "startFrom latestTime;\nstartTime 0;\nstopAt endTime;\n"
        << "endTime " << num(s.capTstar * tStar) << ";  // cap only: the monitor ends the run at rest\n"
        << "deltaT " << num(1e-3 * tStar) << ";\n"
-       << "writeControl adjustable;\nwriteInterval " << num(0.25 * tStar) << ";\n"
+       << "writeControl adjustable;\nwriteInterval " << num(tStar / s.writesPerTstar) << ";\n"
        << "purgeWrite 0;\nwriteFormat ascii;\nwritePrecision 8;\nwriteCompression off;\n"
        << "timeFormat general;\ntimePrecision 8;\nrunTimeModifiable yes;\n"
        << "adjustTimeStep yes;\nmaxCo " << num(s.maxCourant) << ";\nmaxAlphaCo "

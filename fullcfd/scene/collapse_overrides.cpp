@@ -17,6 +17,7 @@ CollapseScene CollapseOverrides::scene() const {
     s.etaMax = etaMax;
     s.restFraction = restFraction;
     s.capTstar = capTstar;
+    s.writesPerTstar = writesPerTstar;
     s.validate();
     return s;
 }

@@ -18,6 +18,7 @@ struct CollapseOverrides {
     std::string convention = "standard";
     double restFraction = 0.01;
     double capTstar = 15.0;
+    int writesPerTstar = 4;
 
     // Loads the material, applies overrides, validates: throws InputError before anything is written.
     CollapseScene scene() const;

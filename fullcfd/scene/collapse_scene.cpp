@@ -22,6 +22,7 @@ void CollapseScene::validate() const {
         throw InputError("convention", convention, "standard|paper");
     if (etaMax) requirePositive("eta-max", *etaMax);
     requirePositive("p-min", pMin);
+    requireRange("writes-per-tstar", writesPerTstar, 1, 200);
     requireRange("rest-fraction", restFraction, 0.0, 0.5, false, true);
     requireRange("rest-time", restTimeTstar, 0.0, 10.0, false, true);
     requireRange("cap", capTstar, 1.0, 200.0);
@@ -70,6 +71,7 @@ nlohmann::json CollapseScene::toJson() const {
             {"cap_tstar", capTstar}};
     // Only a non-default limit enters the record, so hashes of existing runs stay valid.
     if (maxCourant != CollapseScene{}.maxCourant) j["max_courant"] = maxCourant;
+    if (writesPerTstar != CollapseScene{}.writesPerTstar) j["writes_per_tstar"] = writesPerTstar;
     return j;
 }
 

@@ -26,6 +26,7 @@ struct CollapseScene {
     double restTimeTstar = 0.5;   // ... for this long (in t*)
     double capTstar = 15.0;       // end time cap (in t*)
     double maxCourant = 0.3;      // flow and interface Courant limit (campaign retries halve it)
+    int writesPerTstar = 4;       // written times per t* (snapshots for reduced models want more)
 
     void validate() const;
 
