@@ -66,6 +66,17 @@ TEST(CollapseScene, HashIsStableAndSensitive) {
     EXPECT_NE(a.hash(), b.hash());
 }
 
+TEST(CollapseScene, DenserWritesEnterTheRecordOnlyWhenAsked) {
+    // Runs written 4 times per t* keep their hashes; more writes make another run.
+    auto a = quartz(), b = quartz();
+    EXPECT_FALSE(a.toJson().contains("writes_per_tstar"));
+    b.writesPerTstar = 20;
+    EXPECT_EQ(b.toJson()["writes_per_tstar"], 20);
+    EXPECT_NE(a.hash(), b.hash());
+    b.writesPerTstar = 0;
+    EXPECT_EQ(errorOf(b), "invalid writes-per-tstar = 0: allowed [1, 200]");
+}
+
 TEST(CollapseScene, BadInputNamesKeyValueAndRange) {
     auto s = quartz();
     s.aspect = 12;
