@@ -23,12 +23,14 @@ nlohmann::json viscosityDeim(const store::SnapshotSet& set, const ViscosityDeimO
     const auto law = GranularLaw::fromSnapshot(first);
     // Every snapshot's viscosity; even positions (over the whole set) train, odd ones are held out.
     std::vector<Eigen::VectorXd> train, test;
+    std::vector<double> trainTimes, testTimes;
     size_t k = 0;
     for (const auto& f : set.files())
         for (size_t t = 0; t < f.times().size(); ++t, ++k) {
             const Eigen::VectorXd sr = strainRate(mesh, asVectors(f.column("U", t)), asVectors(f.boundaryColumn("U", t)));
             Eigen::VectorXd nu = law.nu(sr, f.column("p", t));
             (k % 2 == 0 ? train : test).push_back(nu);
+            (k % 2 == 0 ? trainTimes : testTimes).push_back(f.times()[t]);
         }
     if (train.size() < 2) throw InputError("snapshots", std::to_string(k), "at least 2 stored times (4 for a hold-out)");
     const auto transform = [&](const Eigen::VectorXd& nu) { return o.logSpace ? Eigen::VectorXd(nu.array().log()) : nu; };
@@ -43,17 +45,18 @@ nlohmann::json viscosityDeim(const store::SnapshotSet& set, const ViscosityDeimO
     nlohmann::json rows = nlohmann::json::array();
     for (Eigen::Index m = 1; m <= pod.modes.cols(); ++m) {
         const auto d = buildDeim(pod.modes.leftCols(m));
-        const auto errors = [&](const std::vector<Eigen::VectorXd>& nus) {
-            double mean = 0, worst = 0;
-            for (const auto& nu : nus) {
+        const auto errors = [&](const std::vector<Eigen::VectorXd>& nus, const std::vector<double>& times) {
+            double mean = 0, worst = 0, at = 0;
+            for (size_t i = 0; i < nus.size(); ++i) {
+                const auto& nu = nus[i];
                 const Eigen::VectorXd e = back(d.reconstruct(d.sample(transform(nu)))) - nu;
                 const double r = std::sqrt(e.cwiseProduct(e).dot(mesh.V) / nu.cwiseProduct(nu).dot(mesh.V));
                 mean += r / double(nus.size());
-                worst = std::max(worst, r);
+                if (r > worst) worst = r, at = times[i];
             }
-            return nus.empty() ? nlohmann::json() : nlohmann::json{{"mean", mean}, {"max", worst}};
+            return nus.empty() ? nlohmann::json() : nlohmann::json{{"mean", mean}, {"max", worst}, {"max_at_time_s", at}};
         };
-        rows.push_back({{"modes", m}, {"train", errors(train)}, {"holdout", errors(test)}});
+        rows.push_back({{"modes", m}, {"train", errors(train, trainTimes)}, {"holdout", errors(test, testTimes)}});
         if (m == pod.modes.cols()) {
             std::vector<Eigen::Index> pts = d.points;
             rows.back()["points"] = pts;
