@@ -24,6 +24,7 @@ struct PodCmd {
     std::vector<std::string> files, fields{"alpha"};
     std::string campaign, dir = "runs/campaigns", output;
     int modes = 0, deimModes = 10;
+    std::string plot;
     double energy = 0.9999;
     bool noMean = false, json = false, logSpace = false;
 };
@@ -72,6 +73,29 @@ std::string plotSpectrum(const rom::PodModel& m, const fs::path& out) {
           "'left out after k modes'\n";
     return runGnuplot(dir, stem + ".spectrum.gp", gp.str());
 }
+// Training and hold-out errors (mean and worst) against the number of DEIM points.
+std::string plotDeim(const nlohmann::json& j, const fs::path& png) {
+    std::ostringstream dat;
+    for (const auto& r : j["by_modes"]) {
+        dat << r["modes"] << ' ' << std::max(r["train"]["mean"].get<double>(), 1e-16) << ' '
+            << std::max(r["train"]["max"].get<double>(), 1e-16);
+        if (r["holdout"].is_null()) dat << " NaN NaN\n";
+        else dat << ' ' << r["holdout"]["mean"].get<double>() << ' ' << r["holdout"]["max"].get<double>() << '\n';
+    }
+    const fs::path dir = fs::absolute(png).parent_path();
+    const std::string stem = png.stem().string();
+    writeFileAtomic(dir / (stem + ".dat"), dat.str());
+    std::ostringstream gp;
+    gp << "set terminal pngcairo size 800,520\nset output '" << png.filename().string() << "'\n"
+       << "set datafile missing 'NaN'\nset logscale y\nset format y '10^{%L}'\nset grid\n"
+       << "set xlabel 'DEIM points'\nset ylabel 'relative L2 error of nu'\n"
+       << "set title 'DEIM of the mu(I) viscosity: " << j["train_snapshots"] << " training, " << j["holdout_snapshots"]
+       << " held-out snapshots'\nset arrow from graph 0, first 0.01 to graph 1, first 0.01 nohead dt 2\n"
+       << "plot '" << stem << ".dat' u 1:4 w lp pt 7 ps 0.5 t 'hold-out, mean', '' u 1:5 w l t 'hold-out, worst', "
+       << "'' u 1:2 w l dt 3 t 'training, mean'\n";
+    return runGnuplot(dir, stem + ".gp", gp.str());
+}
+
 }  // namespace
 
 void addRom(CLI::App& app, Action& action) {
@@ -152,6 +176,7 @@ void addRom(CLI::App& app, Action& action) {
     deim->add_option("--dir", o->dir, "Campaign directory (with --campaign)")->capture_default_str();
     deim->add_option("--modes", o->deimModes, "Largest number of DEIM points (= viscosity POD modes)")->capture_default_str();
     deim->add_flag("--log", o->logSpace, "Interpolate log(nu) instead of nu");
+    deim->add_option("--plot", o->plot, "Also draw the errors against the number of points (PNG)");
     deim->add_flag("--json", o->json, "Print JSON");
     deim->callback([&action, o] {
         action = [o] {
@@ -159,7 +184,11 @@ void addRom(CLI::App& app, Action& action) {
             opt.modes = o->deimModes;
             opt.logSpace = o->logSpace;
             const store::SnapshotSet set(snapshotFiles(*o));
-            const auto j = rom::viscosityDeim(set, opt);
+            auto j = rom::viscosityDeim(set, opt);
+            if (!o->plot.empty()) {
+                const std::string warn = plotDeim(j, o->plot);
+                if (!warn.empty()) j["warning"] = warn;
+            }
             if (o->json) {
                 std::cout << j.dump(2) << '\n';
                 return 0;

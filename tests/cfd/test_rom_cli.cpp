@@ -84,7 +84,8 @@ TEST(RomDeim, ViscosityOfARealCollapseIsExactAtFullRankAndReportsItsHoldOut) {
     const fs::path h5 = collapseSnapshots("deim", "8");
     const store::SnapshotFile f(h5);
     const size_t train = (f.times().size() + 1) / 2;
-    auto r = runMixload({"rom", "deim", h5.string(), "--modes", std::to_string(train), "--json"});
+    const fs::path png = h5.parent_path() / "deim.png";
+    auto r = runMixload({"rom", "deim", h5.string(), "--modes", std::to_string(train), "--plot", png.string(), "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["train_snapshots"], train);
@@ -97,6 +98,7 @@ TEST(RomDeim, ViscosityOfARealCollapseIsExactAtFullRankAndReportsItsHoldOut) {
     EXPECT_GT(rows.back()["holdout"]["mean"].get<double>(), 0.0);
     EXPECT_LT(rows.back()["holdout"]["mean"].get<double>(), rows.front()["holdout"]["mean"].get<double>());
     EXPECT_EQ(rows.back()["points"].size(), train);
+    EXPECT_TRUE(fs::exists(png));
     r = runMixload({"rom", "deim", h5.string(), "--modes", "0"});
     EXPECT_EQ(r.rc, 2);
     EXPECT_NE(r.err.find("invalid modes = 0"), std::string::npos) << r.err;
