@@ -121,7 +121,6 @@ std::vector<nlohmann::json> pointsOf(const ParameterSpace& space, const nlohmann
     return points;
 }
 
-
 std::string csvField(const nlohmann::json& v) {
     if (v.is_null()) return "";
     if (v.is_string()) {
