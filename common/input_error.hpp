@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
+#include <filesystem>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -24,5 +25,19 @@ std::optional<double> parseNumber(std::string_view s);
 void requireRange(const std::string& key, double v, double lo, double hi, bool loInclusive = true,
                   bool hiInclusive = true);
 void requirePositive(const std::string& key, double v);
+
+// Runs f(); any failure but an InputError becomes an InputError that names file once (readers of
+// stored files: a truncated or foreign file is bad input, exit 2).
+template <class F>
+auto namingFile(const std::filesystem::path& file, F&& f) -> decltype(f()) {
+    try {
+        return f();
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::exception& ex) {
+        const std::string what = ex.what();
+        throw InputError(what.rfind(file.string(), 0) == 0 ? what : file.string() + ": " + what);
+    }
+}
 
 }  // namespace mixload

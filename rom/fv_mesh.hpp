@@ -16,6 +16,9 @@ namespace mixload::rom {
 
 using Vectors = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
+// A vector field's snapshot column (the components of a cell together) as rows of vectors.
+inline Vectors asVectors(const Eigen::VectorXd& v) { return Eigen::Map<const Vectors>(v.data(), v.size() / 3, 3); }
+
 struct FvMesh {
     Eigen::Index cells = 0, internalFaces = 0, boundaryFaces = 0;  // boundaryFaces: non-empty patches
     // Faces in operator order: internal faces, then the non-empty patches' faces in patch order.

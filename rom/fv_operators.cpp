@@ -26,17 +26,6 @@ Eigen::VectorXd interpolate(const FvMesh& m, const Eigen::VectorXd& cells, const
     return f;
 }
 
-Vectors grad(const FvMesh& m, const Eigen::VectorXd& cells, const Eigen::VectorXd& boundary) {
-    const Eigen::VectorXd f = interpolate(m, cells, boundary);
-    Vectors g = Vectors::Zero(m.cells, 3);
-    for (Eigen::Index i = 0; i < m.faces(); ++i) {
-        const Eigen::RowVector3d s = m.Sf.row(i) * f[i];
-        g.row(m.owner[i]) += s;
-        if (i < m.internalFaces) g.row(m.neighbour[i]) -= s;
-    }
-    return g.array().colwise() / m.V.array();
-}
-
 Eigen::VectorXd div(const FvMesh& m, const Eigen::VectorXd& flux) {
     if (flux.size() != m.faces())
         throw std::invalid_argument("fv div: " + std::to_string(flux.size()) + " face values for " +
@@ -47,6 +36,14 @@ Eigen::VectorXd div(const FvMesh& m, const Eigen::VectorXd& flux) {
         if (i < m.internalFaces) d[m.neighbour[i]] -= flux[i];
     }
     return d.cwiseQuotient(m.V);
+}
+
+Vectors grad(const FvMesh& m, const Eigen::VectorXd& cells, const Eigen::VectorXd& boundary) {
+    // Gauss: each component is the divergence of the face flux Sf_k phi_f.
+    const Eigen::VectorXd f = interpolate(m, cells, boundary);
+    Vectors g(m.cells, 3);
+    for (int k = 0; k < 3; ++k) g.col(k) = div(m, m.Sf.col(k).cwiseProduct(f));
+    return g;
 }
 
 Eigen::VectorXd laplacian(const FvMesh& m, const Eigen::VectorXd& cells, const Eigen::VectorXd& boundary) {

@@ -135,7 +135,7 @@ void writePod(const PodModel& m, const fs::path& file) {
 }
 
 PodModel readPod(const fs::path& file) {
-    try {
+    return namingFile(file, [&] {
         auto f = h5::openFile(file);
         std::map<std::string, h5::Attr> a;
         for (const auto& x : h5::attrs(f)) a[x.name] = x;
@@ -164,12 +164,7 @@ PodModel readPod(const fs::path& file) {
         b.coefficients = fromRows(h5::readDoubles(f, "coefficients"), cs[0], cs[1]);
         b.snapshots = static_cast<size_t>(b.eigenvalues.size());
         return m;
-    } catch (const InputError&) {
-        throw;
-    } catch (const std::exception& e) {
-        const std::string what = e.what();
-        throw InputError(what.rfind(file.string(), 0) == 0 ? what : file.string() + ": " + what);
-    }
+    });
 }
 
 }  // namespace mixload::rom

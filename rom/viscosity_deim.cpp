@@ -12,10 +12,6 @@
 
 namespace mixload::rom {
 
-namespace {
-Vectors asVectors(const Eigen::VectorXd& v) { return Eigen::Map<const Vectors>(v.data(), v.size() / 3, 3); }
-}  // namespace
-
 nlohmann::json viscosityDeim(const store::SnapshotSet& set, const ViscosityDeimOptions& o) {
     requireRange("modes", o.modes, 1, 10000);
     const auto& first = set.files().front();
@@ -62,12 +58,13 @@ nlohmann::json viscosityDeim(const store::SnapshotSet& set, const ViscosityDeimO
             rows.back()["points"] = pts;
         }
     }
+    double lo = train.front().minCoeff(), hi = train.front().maxCoeff();
+    for (const auto& nu : train) lo = std::min(lo, nu.minCoeff()), hi = std::max(hi, nu.maxCoeff());
     return {{"cells", mesh.cells},
             {"train_snapshots", train.size()},
             {"holdout_snapshots", test.size()},
             {"log_space", o.logSpace},
-            {"nu_range", {std::min_element(train.begin(), train.end(), [](auto& a, auto& b) { return a.minCoeff() < b.minCoeff(); })->minCoeff(),
-                          std::max_element(train.begin(), train.end(), [](auto& a, auto& b) { return a.maxCoeff() < b.maxCoeff(); })->maxCoeff()}},
+            {"nu_range", {lo, hi}},
             {"by_modes", rows}};
 }
 

@@ -53,19 +53,6 @@ nlohmann::json datasetJson(hid_t loc, const std::string& path, bool verify) {
             {"stored_bytes", H5Dget_storage_size(d)}};
 }
 
-// Errors from here on name the file once.
-template <class F>
-auto named(const fs::path& file, F&& f) -> decltype(f()) {
-    try {
-        return f();
-    } catch (const InputError&) {
-        throw;
-    } catch (const std::exception& ex) {
-        const std::string what = ex.what();
-        throw InputError(what.rfind(file.string(), 0) == 0 ? what : file.string() + ": " + what);
-    }
-}
-
 std::string bytesOf(const std::vector<double>& v) {
     return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(double));
 }
@@ -76,7 +63,7 @@ std::string bytesOf(const std::vector<int32_t>& v) {
 }  // namespace
 
 SnapshotFile::SnapshotFile(const fs::path& file) : path_(file) {
-    named(file, [&] {
+    namingFile(file, [&] {
         file_ = h5::openFile(file);
         const auto a = attrsJson(file_);
         if (a.value("schema", std::string()) != kSnapshotSchema)
@@ -100,7 +87,7 @@ SnapshotFile::SnapshotFile(const fs::path& file) : path_(file) {
 nlohmann::json SnapshotFile::provenance() const { return attrsJson(file_); }
 
 nlohmann::json SnapshotFile::params() const {
-    return named(path_, [&] {
+    return namingFile(path_, [&] {
         auto p = attrsJson(h5::openGroup(file_, "params"));
         p.erase("scene_json");
         return p;
@@ -110,11 +97,11 @@ nlohmann::json SnapshotFile::params() const {
 nlohmann::json SnapshotFile::powderTransport() const {
     if (!h5::exists(file_, "/params/powder_transport"))
         throw InputError("powder transport", path_.string(), "a snapshot file exported by this mixload (re-export the run)");
-    return named(path_, [&] { return attrsJson(h5::openGroup(file_, "/params/powder_transport")); });
+    return namingFile(path_, [&] { return attrsJson(h5::openGroup(file_, "/params/powder_transport")); });
 }
 
 std::vector<std::string> SnapshotFile::fields() const {
-    return named(path_, [&] {
+    return namingFile(path_, [&] {
         std::vector<std::string> out;
         for (const auto& m : members(h5::openGroup(file_, "fields")))
             if (m != "cell_centres") out.push_back(m);
@@ -125,19 +112,9 @@ std::vector<std::string> SnapshotFile::fields() const {
 int SnapshotFile::components(const std::string& field) const {
     const std::string path = "/fields/" + storedFieldName(field);
     if (!h5::exists(file_, path)) throw InputError("field", field, "a field stored in " + path_.string());
-    return named(path_, [&] {
+    return namingFile(path_, [&] {
         const auto dims = h5::shape(h5::openDataset(file_, path));
         return dims.size() == 3 ? static_cast<int>(dims[2]) : 1;
-    });
-}
-
-Eigen::VectorXd SnapshotFile::column(const std::string& field, size_t timeIndex) const {
-    (void)components(field);  // names the field if it is missing
-    if (timeIndex >= times_.size())
-        throw InputError("time index", std::to_string(timeIndex), "0.." + std::to_string(times_.size() - 1));
-    return named(path_, [&] {
-        const auto row = h5::readRow(file_, "/fields/" + storedFieldName(field), timeIndex);
-        return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(row.data(), static_cast<Eigen::Index>(row.size())));
     });
 }
 
@@ -147,12 +124,17 @@ Eigen::VectorXd rowOf(const h5::Handle& file, const fs::path& path, const std::s
     if (!h5::exists(file, dataset))
         throw InputError(what, dataset, "a dataset of " + path.string() + " (snapshots exported by mixload 2 or later)");
     if (t >= times) throw InputError("time index", std::to_string(t), "0.." + std::to_string(times - 1));
-    return named(path, [&] {
+    return namingFile(path, [&] {
         const auto row = h5::readRow(file, dataset, t);
         return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(row.data(), static_cast<Eigen::Index>(row.size())));
     });
 }
 }  // namespace
+
+Eigen::VectorXd SnapshotFile::column(const std::string& field, size_t timeIndex) const {
+    (void)components(field);  // names the field if it is missing
+    return rowOf(file_, path_, "/fields/" + storedFieldName(field), timeIndex, times_.size(), "field");
+}
 
 Eigen::VectorXd SnapshotFile::boundaryColumn(const std::string& field, size_t t) const {
     auto b = rowOf(file_, path_, "/boundary/" + storedFieldName(field), t, times_.size(), "boundary values");
@@ -168,7 +150,7 @@ Eigen::VectorXd SnapshotFile::faceColumn(const std::string& field, size_t t) con
 }
 
 std::vector<SnapshotFile::Patch> SnapshotFile::patches() const {
-    return named(path_, [&] {
+    return namingFile(path_, [&] {
         std::vector<Patch> out;
         const auto g = h5::openGroup(file_, "/mesh/patches");
         for (const auto& name : members(g)) {
@@ -188,11 +170,11 @@ std::vector<SnapshotFile::Patch> SnapshotFile::patches() const {
 }
 
 std::vector<double> SnapshotFile::meshDoubles(const std::string& name) const {
-    return named(path_, [&] { return h5::readDoubles(file_, "/mesh/" + name); });
+    return namingFile(path_, [&] { return h5::readDoubles(file_, "/mesh/" + name); });
 }
 
 std::vector<int32_t> SnapshotFile::meshInts(const std::string& name) const {
-    return named(path_, [&] { return h5::readInts(file_, "/mesh/" + name); });
+    return namingFile(path_, [&] { return h5::readInts(file_, "/mesh/" + name); });
 }
 
 Eigen::MatrixXd SnapshotFile::matrix(const std::string& field, const std::vector<size_t>& timeIndices) const {
@@ -205,7 +187,7 @@ Eigen::MatrixXd SnapshotFile::matrix(const std::string& field, const std::vector
 }
 
 nlohmann::json SnapshotFile::info(bool verify) const {
-    return named(path_, [&] {
+    return namingFile(path_, [&] {
         nlohmann::json j;
         j["file"] = fs::absolute(path_).string();
         j["bytes"] = fs::file_size(path_);

@@ -189,28 +189,51 @@ std::vector<double> anyList(FoamReader& r, const std::string& type) {
     r.fail("a list of type " + type);
 }
 
-// The rest of an entry up to its ';': uniform X, nonuniform List<T> N(...), words, (...) groups.
-std::vector<double> entryNumbers(FoamReader& r, bool& uniform) {
+// A field entry's value after its keyword: "uniform X" (expanded to n elements) or "nonuniform
+// List<T> N(...)" with N = n, of k components each (1: scalar, 3: vector). what and of name the
+// entry and its elements in errors ("internalField", "cells").
+std::vector<double> fieldValues(FoamReader& r, size_t n, int k, const std::string& what, const std::string& of) {
+    const std::string kind = r.word();
     std::vector<double> out;
-    uniform = false;
+    if (kind == "uniform") {
+        std::vector<double> one(static_cast<size_t>(k));
+        if (k == 1) one[0] = r.number<double>();
+        else {
+            const auto e = r.element<double, 3>();
+            one.assign(e.begin(), e.end());
+        }
+        out.resize(n * k);
+        for (size_t i = 0; i < out.size(); ++i) out[i] = one[i % k];
+        return out;
+    }
+    if (kind != "nonuniform") r.fail(what + " is neither uniform nor nonuniform");
+    // An empty list may come without its type: "nonuniform 0()".
+    if (std::isdigit(static_cast<unsigned char>(r.peek()))) out = r.list<double, 1>();
+    else {
+        const std::string type = r.word();
+        if (type != (k == 1 ? "List<scalar>" : "List<vector>")) r.fail(what + " of type " + type);
+        out = k == 1 ? r.list<double, 1>() : r.list<double, 3>();
+    }
+    if (out.size() != n * k)
+        r.fail(what + " has " + std::to_string(out.size() / k) + " values for " + std::to_string(n) + " " + of);
+    return out;
+}
+
+// Reads past the rest of an entry up to its ';': words, numbers, (...) groups and nonuniform lists
+// (binary lists included, which is why this cannot just search for the ';').
+void skipEntry(FoamReader& r) {
     while (r.peek() != ';') {
         if (r.peek() == '(') {
             r.expect('(');
-            while (r.peek() != ')') out.push_back(r.number<double>());
+            while (r.peek() != ')') (void)r.number<double>();
             r.expect(')');
             continue;
         }
-        const std::string w = r.word();
-        if (w == "uniform") uniform = true;
-        else if (w == "nonuniform") {
-            // An empty patch writes "nonuniform 0()": no type word.
-            if (std::isdigit(static_cast<unsigned char>(r.peek()))) out = r.list<double, 1>();
-            else out = anyList(r, r.word());
-        }
-        else if (const auto v = parseNumber(w)) out.push_back(*v);
+        if (r.word() != "nonuniform") continue;
+        if (std::isdigit(static_cast<unsigned char>(r.peek()))) (void)r.list<double, 1>();
+        else (void)anyList(r, r.word());
     }
     r.expect(';');
-    return out;
 }
 
 PatchEntry readPatchEntry(FoamReader& r, size_t faces, int components) {
@@ -221,19 +244,12 @@ PatchEntry readPatchEntry(FoamReader& r, size_t faces, int components) {
         if (key == "type") {
             e.type = r.word();
             r.expect(';');
-            continue;
-        }
-        bool uniform = false;
-        auto v = entryNumbers(r, uniform);
-        if (key != "value" || e.type == "empty") continue;  // an empty patch has no faces in fields
-        e.hasValue = true;
-        if (uniform) {
-            if (v.size() != static_cast<size_t>(components)) r.fail("uniform value of the wrong size");
-            e.value.resize(faces * components);
-            for (size_t i = 0; i < e.value.size(); ++i) e.value[i] = v[i % components];
+        } else if (key == "value" && e.type != "empty") {  // an empty patch has no faces in fields
+            e.value = fieldValues(r, faces, components, "value of a patch", "faces");
+            e.hasValue = true;
+            r.expect(';');
         } else {
-            if (v.size() != faces * components) r.fail("value has the wrong number of entries");
-            e.value = std::move(v);
+            skipEntry(r);
         }
     }
     r.expect('}');
@@ -326,27 +342,7 @@ FoamField readInternalField(const fs::path& file, int32_t nCells) {
     else if (k == "volVectorField") f.components = 3;
     else r.fail("class " + k + " (mixload exports volScalarField and volVectorField)");
     r.seekKeyword("internalField");
-    const std::string kind = r.word();
-    const size_t n = static_cast<size_t>(nCells) * f.components;
-    if (kind == "uniform") {
-        std::vector<double> one(f.components);
-        if (f.components == 1) one[0] = r.number<double>();
-        else {
-            const auto e = r.element<double, 3>();
-            one.assign(e.begin(), e.end());
-        }
-        f.values.resize(n);
-        for (size_t i = 0; i < n; ++i) f.values[i] = one[i % f.components];
-        return f;
-    }
-    if (kind != "nonuniform") r.fail("internalField is neither uniform nor nonuniform");
-    const std::string type = r.word();
-    if (type != (f.components == 1 ? "List<scalar>" : "List<vector>"))
-        r.fail("internalField of type " + type + " in a " + k);
-    f.values = f.components == 1 ? r.list<double, 1>() : r.list<double, 3>();
-    if (f.values.size() != n)
-        r.fail("internalField has " + std::to_string(f.values.size() / f.components) +
-               " values for a mesh of " + std::to_string(nCells) + " cells");
+    f.values = fieldValues(r, static_cast<size_t>(nCells), f.components, "internalField", "cells");
     return f;
 }
 
@@ -449,12 +445,7 @@ std::vector<double> readSurfaceField(const fs::path& file, const FoamMesh& mesh)
     if (r.klass() != "surfaceScalarField") r.fail("class " + r.klass() + " (expected surfaceScalarField)");
     r.seekKeyword("internalField");
     const size_t nInternal = mesh.neighbour.size();
-    std::vector<double> out;
-    const std::string kind = r.word();
-    if (kind == "uniform") out.assign(nInternal, r.number<double>());
-    else if (kind == "nonuniform") out = anyList(r, r.word());
-    else r.fail("internalField is neither uniform nor nonuniform");
-    if (out.size() != nInternal) r.fail("internalField has " + std::to_string(out.size()) + " values for " + std::to_string(nInternal) + " internal faces");
+    std::vector<double> out = fieldValues(r, nInternal, 1, "internalField", "internal faces");
     const auto entries = boundaryEntries(r, mesh, 1);
     for (const auto& p : mesh.patches) {
         if (p.type == "empty") continue;

@@ -243,13 +243,23 @@ nlohmann::json exportSnapshots(const SnapshotExport& e) {
             auto fg = h5::createGroup(file, "fields");
             const hsize_t nT = picked.size(), nC = mesh.nCells;
             const auto stored = e.float64 ? h5::Stored::Float64 : h5::Stored::Float32;
+            // Each field's values on the non-empty patches' faces go to /boundary (what operators
+            // need there), read from the same file as its internal field.
+            auto bg = h5::createGroup(file, "boundary");
+            hsize_t nB = 0;
+            for (const auto& p : mesh.patches)
+                if (p.type != "empty") nB += static_cast<hsize_t>(p.size);
             for (const auto& f : names) {
                 if (f == "phi") continue;  // a face field: /faces below
-                // The first time read tells scalar or vector; the dataset is made from it.
-                h5::Handle d;
+                // The first time read tells scalar or vector; the datasets are made from it.
+                h5::Handle d, bd;
                 int comps = 0;
+                // A time whose file lacks a patch value (mixload's own initial fields omit some) is
+                // stored as NaN and named, never filled in.
+                nlohmann::json missing = nlohmann::json::object();
                 for (size_t i = 0; i < picked.size(); ++i) {
-                    const auto v = readInternalField(run / picked[i] / f, mesh.nCells);
+                    const fs::path src = run / picked[i] / f;
+                    const auto v = readInternalField(src, mesh.nCells);
                     if (i == 0) {
                         comps = v.components;
                         d = h5::createDataset(fg, f, comps == 1 ? std::vector<hsize_t>{nT, nC}
@@ -257,39 +267,28 @@ nlohmann::json exportSnapshots(const SnapshotExport& e) {
                                               stored, true);
                         h5::attr(d, "units", unitOf(f));
                         h5::attr(d, "source", std::string("OpenFOAM <time>/") + f + ", internal field");
+                        bd = h5::createDataset(bg, f, comps == 1 ? std::vector<hsize_t>{nT, nB}
+                                                                 : std::vector<hsize_t>{nT, nB, 3},
+                                               stored, true);
+                        h5::attr(bd, "source", std::string("OpenFOAM <time>/") + f +
+                                                   ", boundaryField of the non-empty patches");
                     } else if (v.components != comps) {
                         throw std::runtime_error(f + " changes type over time");
                     }
                     h5::writeRow(d, i, v.values);
-                }
-                written.emplace_back(f, comps);
-            }
-            // The fields' values on the non-empty patches' faces (what operators need at the
-            // boundary), and face fields (phi): internal faces, then the non-empty patches' faces.
-            auto bg = h5::createGroup(file, "boundary");
-            hsize_t nB = 0;
-            for (const auto& p : mesh.patches)
-                if (p.type != "empty") nB += static_cast<hsize_t>(p.size);
-            for (const auto& [f, comps] : written) {
-                auto d = h5::createDataset(bg, f, comps == 1 ? std::vector<hsize_t>{nT, nB} : std::vector<hsize_t>{nT, nB, 3},
-                                           stored, true);
-                h5::attr(d, "source", std::string("OpenFOAM <time>/") + f + ", boundaryField of the non-empty patches");
-                // A time whose file lacks a patch value (mixload's own initial fields omit some) is
-                // stored as NaN and named, never filled in.
-                nlohmann::json missing = nlohmann::json::object();
-                for (size_t i = 0; i < picked.size(); ++i) {
-                    const auto v = readInternalField(run / picked[i] / f, mesh.nCells);
-                    std::vector<double> b;
+                    std::vector<double> bv;
                     try {
-                        b = readBoundaryValues(run / picked[i] / f, mesh, v, geo.faceAreas);
+                        bv = readBoundaryValues(src, mesh, v, geo.faceAreas);
                     } catch (const std::runtime_error& ex) {
                         missing[picked[i]] = ex.what();
-                        b.assign(nB * static_cast<hsize_t>(comps), std::nan(""));
+                        bv.assign(nB * static_cast<hsize_t>(comps), std::nan(""));
                     }
-                    h5::writeRow(d, i, b);
+                    h5::writeRow(bd, i, bv);
                 }
-                h5::attr(d, "missing_times", missing.dump());
+                h5::attr(bd, "missing_times", missing.dump());
+                written.emplace_back(f, comps);
             }
+            // Face fields (phi): internal faces, then the non-empty patches' faces.
             if (std::find(names.begin(), names.end(), "phi") != names.end()) {
                 auto faces = h5::createGroup(file, "faces");
                 h5::Handle d;

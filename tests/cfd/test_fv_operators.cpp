@@ -35,9 +35,6 @@ double relErr(const Eigen::VectorXd& a, const std::vector<double>& ref) {
 
 Eigen::VectorXd flat(const rom::Vectors& v) { return Eigen::Map<const Eigen::VectorXd>(v.data(), v.size()); }
 
-rom::Vectors asVectors(const Eigen::VectorXd& v) {
-    return Eigen::Map<const rom::Vectors>(v.data(), v.size() / 3, 3);
-}
 
 // Exports the run's fields in float64 with phi, runs OpenFOAM's operators at the time nearest the
 // middle of the run, and checks each of ours against them.
@@ -69,12 +66,12 @@ void checkOperators(const fs::path& run) {
     EXPECT_LT(relErr(flat(rom::grad(m, alpha, alphaB)), vol("fvcRef.grad.alpha")), 1e-10) << "grad";
     EXPECT_LT(relErr(rom::div(m, f.faceColumn("phi", t)), vol("fvcRef.div.phi")), 1e-10) << "div";
     EXPECT_LT(relErr(rom::laplacian(m, alpha, alphaB), vol("fvcRef.laplacian.alpha")), 1e-10) << "laplacian";
-    EXPECT_LT(relErr(rom::strainRate(m, asVectors(f.column("U", t)), asVectors(f.boundaryColumn("U", t))),
+    EXPECT_LT(relErr(rom::strainRate(m, rom::asVectors(f.column("U", t)), rom::asVectors(f.boundaryColumn("U", t))),
                      vol("fvcRef.strainRate")),
               1e-10)
         << "strain rate";
     const auto law = rom::GranularLaw::fromSnapshot(f);
-    const Eigen::VectorXd sr = rom::strainRate(m, asVectors(f.column("U", t)), asVectors(f.boundaryColumn("U", t)));
+    const Eigen::VectorXd sr = rom::strainRate(m, rom::asVectors(f.column("U", t)), rom::asVectors(f.boundaryColumn("U", t)));
     EXPECT_LT(relErr(law.nu(sr, f.column("p", t)), vol("fvcRef.nu.powder")), 1e-10) << "mu(I) viscosity";
 }
 }  // namespace
