@@ -11,6 +11,7 @@
 #include "common/atomic_file.hpp"
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
+#include "rom/collapse_galerkin.hpp"
 #include "rom/pod_model.hpp"
 #include "rom/viscosity_deim.hpp"
 #include "store/snapshot_file.hpp"
@@ -204,6 +205,59 @@ void addRom(CLI::App& app, Action& action) {
                               << r["holdout"]["max"].get<double>();
                 std::cout << '\n';
             }
+            return 0;
+        };
+    });
+
+    struct GalerkinCmd {
+        std::string file;
+        rom::CollapseGalerkinOptions opt;
+        bool json = false;
+    };
+    auto g = std::make_shared<GalerkinCmd>();
+    auto* gal = cmd->add_subcommand(
+        "galerkin", "POD-Galerkin model of a collapse: build it on a run's snapshots (alpha, U, p, phi), run it "
+                    "from the first stored time and compare with every stored field");
+    gal->add_option("FILE", g->file, "Snapshot file of a collapse (snapshots export ... --fields alpha,U,p,phi)")->required();
+    gal->add_option("--modes", g->opt.modes, "Flow modes (0: as many as --energy needs)")->capture_default_str();
+    gal->add_option("--energy", g->opt.energy, "Share of the flow's energy the modes keep (with --modes 0)")->capture_default_str();
+    gal->add_flag("--reduced-alpha", g->opt.reducedAlpha, "Reduce the powder fraction too (else it is carried on the mesh)");
+    gal->add_option("--alpha-modes", g->opt.alphaModes, "Powder-fraction modes (0: by --alpha-energy)")->capture_default_str();
+    gal->add_option("--alpha-energy", g->opt.alphaEnergy, "Share of alpha's energy its modes keep")->capture_default_str();
+    gal->add_option("--train-every", g->opt.trainEvery, "Train on every k-th stored time; the others are held out")->capture_default_str();
+    gal->add_option("--courant", g->opt.courant, "Transport Courant number of a step")->capture_default_str();
+    gal->add_option("--rtol", g->opt.rtol, "CVODE relative tolerance")->capture_default_str();
+    gal->add_option("--mass-tolerance", g->opt.massTolerance,
+                    "Stop with an error when the powder volume drifts by more than this share")->capture_default_str();
+    gal->add_flag("--stored-pressure", g->opt.storedPressure,
+                  "Diagnosis: the mu(I) law reads the run's stored pressure instead of the lithostatic closure");
+    gal->add_flag("--json", g->json, "Print JSON (with the per-time errors)");
+    gal->callback([&action, g] {
+        action = [g] {
+            if (!(g->opt.courant > 0 && g->opt.courant <= 0.5))
+                throw InputError("courant", std::to_string(g->opt.courant), "(0, 0.5]: the van Leer transport's bound");
+            if (!(g->opt.energy > 0 && g->opt.energy <= 1)) throw InputError("energy", std::to_string(g->opt.energy), "(0, 1]");
+            if (!(g->opt.massTolerance > 0 && g->opt.massTolerance <= 1))
+                throw InputError("mass-tolerance", std::to_string(g->opt.massTolerance), "(0, 1]");
+            const store::SnapshotFile f(g->file);
+            auto j = rom::reproduceCollapse(f, g->opt);
+            if (g->json) {
+                std::cout << j.dump(2) << '\n';
+                return 0;
+            }
+            std::cout << std::setprecision(4) << "POD-Galerkin collapse on " << j["cells"] << " cells: " << j["modes"]
+                      << " flow modes (energy " << j["flow_energy_kept"].get<double>() << "), alpha "
+                      << j["alpha"].get<std::string>() << ", " << j["train_times"] << " of " << j["stored_times"]
+                      << " stored times trained\n  pressure closure (lithostatic) error " << j["pressure_closure_error"].get<double>()
+                      << ", viscosity " << j["viscosity_closure_error"].get<double>() << "\n  alpha rel. L2 error mean "
+                      << j["alpha_error_mean"].get<double>() << " max " << j["alpha_error_max"].get<double>()
+                      << "; U error (of peak |U|) mean " << j["u_error_mean"].get<double>() << " max "
+                      << j["u_error_max"].get<double>() << "\n  L*f " << j["runout_star"].get<double>() << " (full "
+                      << j["runout_star_full"].get<double>() << ", " << 100 * j["runout_error"].get<double>() << "%), H*f "
+                      << j["height_star"].get<double>() << " (full " << j["height_star_full"].get<double>() << ", "
+                      << 100 * j["height_error"].get<double>() << "%)\n  online " << j["online_seconds"].get<double>()
+                      << " s (" << j["steps"] << " steps, " << j["rhs_evaluations"] << " flow evaluations), build "
+                      << j["build_seconds"].get<double>() << " s\n";
             return 0;
         };
     });

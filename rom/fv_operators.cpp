@@ -47,6 +47,12 @@ Vectors grad(const FvMesh& m, const Eigen::VectorXd& cells, const Eigen::VectorX
 }
 
 Eigen::VectorXd laplacian(const FvMesh& m, const Eigen::VectorXd& cells, const Eigen::VectorXd& boundary) {
+    return laplacian(m, Eigen::VectorXd::Ones(m.faces()), cells, boundary);
+}
+
+Eigen::VectorXd laplacian(const FvMesh& m, const Eigen::VectorXd& gamma, const Eigen::VectorXd& cells,
+                          const Eigen::VectorXd& boundary) {
+    if (gamma.size() != m.faces()) throw std::invalid_argument("fv laplacian: diffusivity not given on every face");
     const Vectors g = grad(m, cells, boundary);
     Eigen::VectorXd flux(m.faces());
     for (Eigen::Index i = 0; i < m.internalFaces; ++i) {
@@ -54,23 +60,57 @@ Eigen::VectorXd laplacian(const FvMesh& m, const Eigen::VectorXd& cells, const E
         const double w = m.weights[i];
         // correctedSnGrad: the orthogonal part plus the correction from the interpolated gradient.
         const Eigen::RowVector3d gf = w * g.row(o) + (1 - w) * g.row(n);
-        flux[i] = m.magSf[i] * (m.deltaCoeffs[i] * (cells[n] - cells[o]) + m.corrVecs.row(i).dot(gf));
+        flux[i] = gamma[i] * m.magSf[i] * (m.deltaCoeffs[i] * (cells[n] - cells[o]) + m.corrVecs.row(i).dot(gf));
     }
     for (Eigen::Index i = m.internalFaces; i < m.faces(); ++i)
-        flux[i] = m.magSf[i] * m.deltaCoeffs[i] * (boundary[i - m.internalFaces] - cells[m.owner[i]]);
+        flux[i] = gamma[i] * m.magSf[i] * m.deltaCoeffs[i] * (boundary[i - m.internalFaces] - cells[m.owner[i]]);
     return div(m, flux);
 }
 
-Eigen::VectorXd strainRate(const FvMesh& m, const Vectors& U, const Vectors& boundaryU) {
+std::array<Vectors, 3> gradComponents(const FvMesh& m, const Vectors& U, const Vectors& boundaryU) {
     requireSizes(m, U.rows(), boundaryU.rows());
-    Vectors gx = grad(m, U.col(0), boundaryU.col(0)), gy = grad(m, U.col(1), boundaryU.col(1)),
-            gz = grad(m, U.col(2), boundaryU.col(2));
-    Eigen::VectorXd out(m.cells);
+    return {grad(m, U.col(0), boundaryU.col(0)), grad(m, U.col(1), boundaryU.col(1)),
+            grad(m, U.col(2), boundaryU.col(2))};
+}
+
+Vectors reconstruct(const FvMesh& m, const Eigen::VectorXd& flux) {
+    if (flux.size() != m.faces())
+        throw std::invalid_argument("fv reconstruct: " + std::to_string(flux.size()) + " face values for " +
+                                    std::to_string(m.faces()) + " faces");
+    std::vector<Eigen::Matrix3d> t(static_cast<size_t>(m.cells), Eigen::Matrix3d::Zero());
+    Vectors s = Vectors::Zero(m.cells, 3);
+    for (Eigen::Index i = 0; i < m.faces(); ++i) {
+        const Eigen::RowVector3d hat = m.Sf.row(i) / m.magSf[i];
+        const Eigen::Matrix3d tt = hat.transpose() * m.Sf.row(i);
+        const Eigen::RowVector3d sv = hat * flux[i];
+        t[static_cast<size_t>(m.owner[i])] += tt;
+        s.row(m.owner[i]) += sv;
+        if (i < m.internalFaces) {
+            t[static_cast<size_t>(m.neighbour[i])] += tt;
+            s.row(m.neighbour[i]) += sv;
+        }
+    }
+    Vectors u(m.cells, 3);
     for (Eigen::Index c = 0; c < m.cells; ++c) {
+        Eigen::Matrix3d tc = t[static_cast<size_t>(c)];
+        const double scale = tc.trace();
+        for (int k = 0; k < 3; ++k)
+            if (std::abs(tc(k, k)) < 1e-10 * scale) tc(k, k) = 1;  // no face spans it: 2D's empty direction
+        u.row(c) = tc.ldlt().solve(s.row(c).transpose()).transpose();
+    }
+    return u;
+}
+
+Eigen::VectorXd strainRate(const FvMesh& m, const Vectors& U, const Vectors& boundaryU) {
+    return strainRate(gradComponents(m, U, boundaryU));
+}
+
+Eigen::VectorXd strainRate(const std::array<Vectors, 3>& g) {
+    const Eigen::Index cells = g[0].rows();
+    Eigen::VectorXd out(cells);
+    for (Eigen::Index c = 0; c < cells; ++c) {
         Eigen::Matrix3d t;  // t(i, j) = dU_j / dx_i, as OpenFOAM's grad(U)
-        t.col(0) = gx.row(c).transpose();
-        t.col(1) = gy.row(c).transpose();
-        t.col(2) = gz.row(c).transpose();
+        for (int j = 0; j < 3; ++j) t.col(j) = g[static_cast<size_t>(j)].row(c).transpose();
         const Eigen::Matrix3d s = 0.5 * (t + t.transpose());
         out[c] = std::sqrt(2.0) * std::sqrt((s.array() * s.array()).sum());
     }

@@ -7,6 +7,8 @@
 // and inletOutlet patches give. Verified against OpenFOAM's own fvc on real runs
 // (tests/cfd/test_fv_operators.cpp).
 #pragma once
+
+#include <array>
 #include <Eigen/Dense>
 
 #include "rom/fv_mesh.hpp"
@@ -21,8 +23,19 @@ Vectors grad(const FvMesh& m, const Eigen::VectorXd& cells, const Eigen::VectorX
 Eigen::VectorXd div(const FvMesh& m, const Eigen::VectorXd& faceFlux);
 // Gauss linear corrected Laplacian of a scalar (unit diffusivity).
 Eigen::VectorXd laplacian(const FvMesh& m, const Eigen::VectorXd& cells, const Eigen::VectorXd& boundary);
+// The same with a diffusivity given on every face (internal then boundary): fvc::laplacian(gamma_f, .).
+Eigen::VectorXd laplacian(const FvMesh& m, const Eigen::VectorXd& faceGamma, const Eigen::VectorXd& cells,
+                          const Eigen::VectorXd& boundary);
+// Gauss linear gradient of each component of a vector field: g[j].row(c) is grad U_j in cell c,
+// so OpenFOAM's grad(U)(i, j) = dU_j/dx_i = g[j](c, i).
+std::array<Vectors, 3> gradComponents(const FvMesh& m, const Vectors& U, const Vectors& boundaryU);
+// fvc::reconstruct: cell vectors from a face flux, (sum_f Sf Sf/|Sf|)^-1 sum_f Sf flux_f/|Sf|. A
+// direction no face spans (the empty direction of a 2D mesh) gets 0, as OpenFOAM's inv does.
+Vectors reconstruct(const FvMesh& m, const Eigen::VectorXd& faceFlux);
 // The mu(I) shear rate sqrt(2) |sym(grad U)| from the Gauss linear gradient of U (cells x 3 and
 // boundary faces x 3, row-major as snapshots store them).
 Eigen::VectorXd strainRate(const FvMesh& m, const Vectors& U, const Vectors& boundaryU);
+// The same from the gradient's components (gradComponents).
+Eigen::VectorXd strainRate(const std::array<Vectors, 3>& gradU);
 
 }  // namespace mixload::rom

@@ -362,6 +362,12 @@ PowderTransport readPowderTransport(const fs::path& caseDir) {
     const std::regex entry("(\\w+)\\s+([^;\\s]+)\\s*;");
     for (auto it = std::sregex_iterator(coeffs.begin(), coeffs.end(), entry); it != std::sregex_iterator(); ++it)
         if (const auto v = parseNumber((*it)[2].str())) t.values.emplace_back((*it)[1].str(), *v);
+    // The air as "air { transportModel Newtonian; nu N; rho R; }": a reduced model's mixture
+    // density and viscosity need it.
+    if (std::regex_search(text, m, std::regex("air\\s*\\{\\s*transportModel\\s+Newtonian;\\s*nu\\s+([^;]+);\\s*rho\\s+([^;]+);"))) {
+        if (const auto nu = parseNumber(m[1].str())) t.values.emplace_back("airNu", *nu);
+        if (const auto r = parseNumber(m[2].str())) t.values.emplace_back("airRho", *r);
+    }
     return t;
 }
 

@@ -10,6 +10,8 @@
     fvcRef.div.phi             fvc::div(phi)
     fvcRef.laplacian.alpha     fvc::laplacian(alpha)              (laplacianSchemes)
     fvcRef.strainRate          sqrt(2) |symm(fvc::grad(U))|       (the mu(I) shear rate)
+    fvcRef.reconstruct.phi     fvc::reconstruct(phi)              (cell velocities from the face flux)
+    fvcRef.laplacianP.alpha    fvc::laplacian(interpolate(p), alpha)  (a face diffusivity)
     fvcRef.nu.powder           the powder's viscosity model (transportProperties, with p) evaluated
 \*---------------------------------------------------------------------------*/
 
@@ -83,6 +85,11 @@ int main(int argc, char *argv[])
         (
             viscosityModel::New("fvcRef.nuModel", transport.subDict("powder"), U, phi)
         );
+        volVectorField rec("fvcRef.reconstruct.phi", fvc::reconstruct(phi));
+        writeBinary(rec);
+        volScalarField lapP("fvcRef.laplacianP.alpha", fvc::laplacian(fvc::interpolate(p), alpha));
+        writeBinary(lapP);
+
         powder->correct();
         volScalarField nuPowder("fvcRef.nu.powder", powder->nu());
         writeBinary(nuPowder);

@@ -70,6 +70,13 @@ void checkOperators(const fs::path& run) {
                      vol("fvcRef.strainRate")),
               1e-10)
         << "strain rate";
+    EXPECT_LT(relErr(flat(rom::reconstruct(m, f.faceColumn("phi", t))), vol("fvcRef.reconstruct.phi")), 1e-10)
+        << "reconstruct";
+    const Eigen::VectorXd p = f.column("p", t);
+    EXPECT_LT(relErr(rom::laplacian(m, rom::interpolate(m, p, f.boundaryColumn("p", t)), alpha, alphaB),
+                     vol("fvcRef.laplacianP.alpha")),
+              1e-10)
+        << "laplacian with a face diffusivity";
     const auto law = rom::GranularLaw::fromSnapshot(f);
     const Eigen::VectorXd sr = rom::strainRate(m, rom::asVectors(f.column("U", t)), rom::asVectors(f.boundaryColumn("U", t)));
     EXPECT_LT(relErr(law.nu(sr, f.column("p", t)), vol("fvcRef.nu.powder")), 1e-10) << "mu(I) viscosity";

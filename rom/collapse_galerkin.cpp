@@ -1,0 +1,446 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "rom/collapse_galerkin.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "common/input_error.hpp"
+#include "rom/alpha_transport.hpp"
+#include "rom/cvode_integrator.hpp"
+#include "rom/fv_operators.hpp"
+
+namespace mixload::rom {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+Eigen::VectorXd clamp01(const Eigen::VectorXd& a) { return a.cwiseMax(0.0).cwiseMin(1.0); }
+
+// Owner values on the boundary faces (zero gradient).
+Eigen::VectorXd ownerValues(const FvMesh& m, const Eigen::VectorXd& cells) {
+    Eigen::VectorXd b(m.boundaryFaces);
+    for (Eigen::Index i = 0; i < m.boundaryFaces; ++i) b[i] = cells[m.owner[m.internalFaces + i]];
+    return b;
+}
+
+// The collapse2d scene's velocity conditions, by patch (fullcfd/cases/collapse2d.cpp).
+std::vector<CollapseGalerkin::Wall> collapseWalls(const FvMesh& m) {
+    std::vector<CollapseGalerkin::Wall> w(static_cast<size_t>(m.boundaryFaces));
+    for (const auto& p : m.patches) {
+        CollapseGalerkin::Wall kind;
+        if (p.name == "bottom") kind = CollapseGalerkin::Wall::noSlip;
+        else if (p.name == "leftWall") kind = CollapseGalerkin::Wall::slip;
+        else if (p.name == "atmosphere") kind = CollapseGalerkin::Wall::open;
+        else throw InputError("patch", p.name, "the collapse2d patches bottom, leftWall and atmosphere");
+        for (Eigen::Index i = 0; i < p.size; ++i) w[static_cast<size_t>(p.start - m.internalFaces + i)] = kind;
+    }
+    return w;
+}
+
+// What the flow equations hold fixed over one step: the densities, viscosity mixture inputs, the
+// lithostatic pressure, the reduced mass matrix and gravity term, all from alpha.
+struct Frozen {
+    Eigen::VectorXd alpha, rhoC, rhoF, p, gravityTerm;
+    Eigen::MatrixXd mass;
+    Eigen::LLT<Eigen::MatrixXd> massLlt;
+};
+
+class Model {
+  public:
+    explicit Model(const CollapseGalerkin& r)
+        : r_(r), m_(r.mesh), pressure_(r.mesh, r.gravity), Vf_(m_.magSf.cwiseQuotient(m_.deltaCoeffs)),
+          ghf_(-r.gravity * m_.Cf.col(1)) {}
+
+    Frozen freeze(const Eigen::VectorXd& alphaIn) const {
+        Frozen z;
+        z.alpha = clamp01(alphaIn);
+        const double rho1 = r_.law.rho, rho2 = r_.airRho;
+        z.rhoC = (rho2 + (rho1 - rho2) * z.alpha.array()).matrix();
+        z.rhoF = interpolate(m_, z.rhoC, ownerValues(m_, z.rhoC));
+        z.p = pressure_(z.rhoC);
+        const Eigen::MatrixXd& Psi = r_.flow.modes;
+        z.mass = Psi.transpose() * (Vf_.cwiseProduct(z.rhoF).asDiagonal() * Psi);
+        z.massLlt.compute(z.mass);
+        Eigen::VectorXd g = Eigen::VectorXd::Zero(m_.faces());
+        for (Eigen::Index i = 0; i < m_.internalFaces; ++i)
+            g[i] = -m_.magSf[i] * ghf_[i] * (z.rhoC[m_.neighbour[i]] - z.rhoC[m_.owner[i]]);
+        z.gravityTerm = Psi.transpose() * g;
+        return z;
+    }
+
+    Vectors cellVelocity(const Eigen::VectorXd& a) const { return asVectors(r_.cellU * a); }
+
+    Vectors boundaryVelocity(const Vectors& U) const {
+        Vectors b(m_.boundaryFaces, 3);
+        for (Eigen::Index i = 0; i < m_.boundaryFaces; ++i) {
+            const Eigen::Index f = m_.internalFaces + i;
+            const Eigen::RowVector3d up = U.row(m_.owner[f]);
+            switch (r_.walls[static_cast<size_t>(i)]) {
+                case CollapseGalerkin::Wall::noSlip: b.row(i).setZero(); break;
+                case CollapseGalerkin::Wall::slip: {
+                    const Eigen::RowVector3d n = m_.Sf.row(f) / m_.magSf[f];
+                    b.row(i) = up - up.dot(n) * n;
+                    break;
+                }
+                case CollapseGalerkin::Wall::open: b.row(i) = up; break;
+            }
+        }
+        return b;
+    }
+
+    // M da/dt = the projected convection, viscous and gravity terms.
+    Eigen::VectorXd rate(const Frozen& z, const Eigen::VectorXd& a) const {
+        const Eigen::VectorXd flux = m_.magSf.cwiseProduct(r_.flow.modes * a);
+        const Vectors U = cellVelocity(a);
+        const Vectors Ub = boundaryVelocity(U);
+        const auto G = gradComponents(m_, U, Ub);
+        const Eigen::VectorXd nu1 = r_.law.nu(strainRate(G), z.p);
+        const Eigen::VectorXd mu =
+            (z.alpha.array() * r_.law.rho * nu1.array() + (1 - z.alpha.array()) * r_.airRho * r_.airNu).matrix();
+        const Eigen::VectorXd muF = interpolate(m_, mu, ownerValues(m_, mu));
+        // The explicit part of interFoam's divDevRhoReff: mu dev2(grad(U)^T), as a face vector Sf . T.
+        std::array<Eigen::VectorXd, 3> tf;
+        {
+            std::array<std::array<Eigen::VectorXd, 3>, 3> T;  // T[i][j] per cell
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j) T[i][j].resize(m_.cells);
+            for (Eigen::Index c = 0; c < m_.cells; ++c) {
+                const double tr = G[0](c, 0) + G[1](c, 1) + G[2](c, 2);
+                for (int i = 0; i < 3; ++i)
+                    for (int j = 0; j < 3; ++j)  // (grad U)^T(i, j) = dU_i/dx_j = G[i](c, j)
+                        T[i][j][c] = mu[c] * (G[i](c, j) - (i == j ? 2.0 / 3.0 * tr : 0.0));
+            }
+            for (int j = 0; j < 3; ++j) {
+                tf[j] = Eigen::VectorXd::Zero(m_.faces());
+                for (int i = 0; i < 3; ++i)
+                    tf[j] += m_.Sf.col(i).cwiseProduct(interpolate(m_, T[i][j], ownerValues(m_, T[i][j])));
+            }
+        }
+        Vectors A(m_.cells, 3);
+        for (int j = 0; j < 3; ++j) {
+            const Eigen::VectorXd uj = U.col(j), ubj = Ub.col(j);
+            const Eigen::VectorXd conv = div(m_, flux.cwiseProduct(interpolate(m_, uj, ubj)));
+            A.col(j) = -z.rhoC.cwiseProduct(conv) + laplacian(m_, muF, uj, ubj) + div(m_, tf[j]);
+        }
+        // n_f . interp(A)_f, weighted by the face volume.
+        Eigen::VectorXd faceForce(m_.faces());
+        for (Eigen::Index f = 0; f < m_.faces(); ++f) {
+            Eigen::RowVector3d af = A.row(m_.owner[f]);
+            if (f < m_.internalFaces) af = m_.weights[f] * af + (1 - m_.weights[f]) * A.row(m_.neighbour[f]);
+            faceForce[f] = Vf_[f] * af.dot(m_.Sf.row(f)) / m_.magSf[f];
+        }
+        return z.massLlt.solve(r_.flow.modes.transpose() * faceForce + z.gravityTerm);
+    }
+
+    Eigen::VectorXd flux(const Eigen::VectorXd& a) const { return m_.magSf.cwiseProduct(r_.flow.modes * a); }
+
+    // Coefficients of a flux in the density-weighted product at alpha.
+    Eigen::VectorXd project(const Frozen& z, const Eigen::VectorXd& phi) const {
+        const Eigen::VectorXd v = phi.cwiseQuotient(m_.magSf);
+        return z.massLlt.solve(r_.flow.modes.transpose() * Vf_.cwiseProduct(z.rhoF).cwiseProduct(v));
+    }
+
+    double potentialEnergy(const Eigen::VectorXd& alpha) const {
+        const double y0 = m_.C.col(1).minCoeff();
+        return r_.law.rho * r_.gravity * (alpha.cwiseProduct(m_.V).array() * (m_.C.col(1).array() - y0)).sum();
+    }
+
+    const ColumnPressure& pressure() const { return pressure_; }
+
+  private:
+    const CollapseGalerkin& r_;
+    const FvMesh& m_;
+    ColumnPressure pressure_;
+    Eigen::VectorXd Vf_, ghf_;
+};
+
+}  // namespace
+
+CollapseGalerkin CollapseGalerkin::build(const store::SnapshotFile& f, const CollapseGalerkinOptions& o) {
+    const auto t0 = Clock::now();
+    if (o.trainEvery < 1) throw InputError("train-every", std::to_string(o.trainEvery), "1 or more");
+    if (o.modes < 0) throw InputError("modes", std::to_string(o.modes), "0 (by energy) or more");
+    CollapseGalerkin r;
+    r.options = o;
+    r.shape = CollapseShape::fromSnapshot(f);
+    r.mesh = FvMesh::fromSnapshot(f);
+    r.law = GranularLaw::fromSnapshot(f);
+    const auto t = f.powderTransport();
+    if (!t.contains("airRho") || !t.contains("airNu"))
+        throw InputError("snapshot file", f.path().string(),
+                         "snapshots exported with the air's density and viscosity (export them again)");
+    r.airRho = t["airRho"].get<double>();
+    r.airNu = t["airNu"].get<double>();
+    const auto params = f.params();
+    r.gravity = params.at("gravity_m_s2").get<double>();
+    r.tStar = std::sqrt(r.shape.height / r.gravity);
+    r.walls = collapseWalls(r.mesh);
+    const auto& m = r.mesh;
+
+    for (size_t i = 0; i < f.times().size(); i += static_cast<size_t>(o.trainEvery)) r.trainTimes.push_back(i);
+    if (r.trainTimes.size() < 2) throw InputError("snapshot file", f.path().string(), "at least two training times");
+
+    // The flow's POD in the face product weighted by the mean density of the training times, the
+    // product the projection uses (so that the modes rank the powder's motion, not the air's).
+    Eigen::VectorXd rhoMean = Eigen::VectorXd::Zero(m.faces());
+    for (const auto i : r.trainTimes) {
+        const Eigen::VectorXd a = clamp01(f.column("alpha", i));
+        const Eigen::VectorXd rho = (r.airRho + (r.law.rho - r.airRho) * a.array()).matrix();
+        rhoMean += interpolate(m, rho, ownerValues(m, rho));
+    }
+    rhoMean /= static_cast<double>(r.trainTimes.size());
+    const Eigen::VectorXd weights = m.magSf.cwiseQuotient(m.deltaCoeffs).cwiseProduct(rhoMean);
+    PodOptions po;
+    po.maxModes = o.modes;
+    po.energy = o.modes > 0 ? 1.0 : o.energy;
+    po.subtractMean = false;  // the collapse starts and ends at rest
+    r.flow = computePod(
+        1,
+        [&](size_t) {
+            Eigen::MatrixXd v(m.faces(), static_cast<Eigen::Index>(r.trainTimes.size()));
+            for (size_t k = 0; k < r.trainTimes.size(); ++k)
+                v.col(static_cast<Eigen::Index>(k)) = f.faceColumn("phi", r.trainTimes[k]).cwiseQuotient(m.magSf);
+            return v;
+        },
+        weights, po);
+    r.cellU.resize(3 * m.cells, r.flow.modes.cols());
+    for (Eigen::Index k = 0; k < r.flow.modes.cols(); ++k) {
+        const Vectors u = reconstruct(m, m.magSf.cwiseProduct(r.flow.modes.col(k)));
+        r.cellU.col(k) = Eigen::Map<const Eigen::VectorXd>(u.data(), 3 * m.cells);
+    }
+
+    if (o.reducedAlpha) {
+        r.alphaLift = f.column("alpha", 0);
+        PodOptions pa;
+        pa.maxModes = o.alphaModes;
+        pa.energy = o.alphaModes > 0 ? 1.0 : o.alphaEnergy;
+        pa.subtractMean = false;
+        r.alpha = computePod(
+            1,
+            [&](size_t) {
+                Eigen::MatrixXd x(m.cells, static_cast<Eigen::Index>(r.trainTimes.size()));
+                for (size_t k = 0; k < r.trainTimes.size(); ++k)
+                    x.col(static_cast<Eigen::Index>(k)) = f.column("alpha", r.trainTimes[k]) - r.alphaLift;
+                return x;
+            },
+            m.V, pa);
+    }
+    r.buildSeconds = since(t0);
+    return r;
+}
+
+CollapseTrajectory runCollapseGalerkin(const CollapseGalerkin& rom, const Eigen::VectorXd& alpha0,
+                                       const Eigen::VectorXd& phi0, double t0, const std::vector<double>& outputs,
+                                       const PressureAt& pressureAt) {
+    const auto wall0 = Clock::now();
+    const auto& m = rom.mesh;
+    const auto& o = rom.options;
+    Model model(rom);
+    CollapseTrajectory out;
+
+    Eigen::VectorXd alpha = alpha0, b;
+    if (rom.alpha) {
+        b = rom.alpha->project(alpha0 - rom.alphaLift);
+        alpha = rom.alphaLift + rom.alpha->modes * b;
+    }
+    Frozen z = model.freeze(alpha);
+    Eigen::VectorXd a = model.project(z, phi0);
+    const double volume0 = alpha.dot(m.V);
+    const double energyBound = model.potentialEnergy(clamp01(alpha));
+
+    const Frozen* current = &z;
+    CvodeIntegrator ode(
+        a.size(), [&](double, const Eigen::VectorXd& y, Eigen::VectorXd& dy) { dy = model.rate(*current, y); }, o.rtol,
+        Eigen::VectorXd::Constant(a.size(), 1e-10));
+
+    double t = t0;
+    const double maxStep = o.maxStepTstar * rom.tStar;
+    for (const double tOut : outputs) {
+        if (!(tOut > t)) throw InputError("output time", std::to_string(tOut), "times after the start, increasing");
+        while (t < tOut * (1 - 1e-12)) {
+            const Eigen::VectorXd flux = model.flux(a);
+            const double dt = std::min({transportStep(m, flux, o.courant), maxStep, tOut - t});
+            const Eigen::VectorXd rate = alphaRate(m, alpha, flux, 0.0);
+            if (rom.alpha) {
+                b += dt * rom.alpha->modes.transpose() * m.V.cwiseProduct(rate);
+                alpha = rom.alphaLift + rom.alpha->modes * b;
+            } else {
+                alpha += dt * rate;
+                const Eigen::VectorXd clipped = clamp01(alpha);
+                out.clippedVolume += (alpha - clipped).cwiseAbs().dot(m.V);
+                alpha = clipped;
+            }
+            z = model.freeze(alpha);
+            if (pressureAt) z.p = pressureAt(t + dt);
+            try {
+                ode.advance(t, t + dt, a);
+            } catch (const std::runtime_error& e) {
+                throw RomFailure(std::string("reduced collapse model: the flow integration failed at t = ") +
+                                 std::to_string(t) + " s (" + e.what() + ")");
+            }
+            t += dt;
+            ++out.steps;
+            const double ke = 0.5 * a.dot(z.mass * a);
+            const double vol = alpha.dot(m.V);
+            std::ostringstream why;
+            if (!a.allFinite() || !alpha.allFinite())
+                why << "its state is no longer finite";
+            else if (ke > energyBound)
+                why << "its kinetic energy " << ke << " J exceeds the potential energy the column can release ("
+                    << energyBound << " J)";
+            else if (std::abs(vol - volume0) > o.massTolerance * volume0)
+                why << "its powder volume drifted by " << 100 * (vol - volume0) / volume0 << "% (tolerance "
+                    << 100 * o.massTolerance << "%)";
+            if (!why.str().empty()) {
+                std::ostringstream msg;
+                msg << "reduced collapse model unstable at t = " << t << " s (" << t / rom.tStar << " t*, step "
+                    << out.steps << "): " << why.str() << "; try fewer modes, a smaller --courant or more snapshots";
+                throw RomFailure(msg.str());
+            }
+        }
+        out.times.push_back(tOut);
+        out.alpha.push_back(alpha);
+        out.flow.push_back(a);
+        out.kineticEnergy.push_back(0.5 * a.dot(z.mass * a));
+        out.powderVolume.push_back(alpha.dot(m.V));
+    }
+    out.odeSteps = ode.steps();
+    out.rhsEvaluations = ode.rhsEvaluations();
+    out.wallSeconds = since(wall0);
+    return out;
+}
+
+namespace {
+double weightedNorm(const Eigen::VectorXd& x, const Eigen::VectorXd& w) { return std::sqrt(x.cwiseAbs2().dot(w)); }
+Eigen::VectorXd perComponent(const Eigen::VectorXd& V) {  // cell volumes repeated for 3 components
+    Eigen::VectorXd w(3 * V.size());
+    for (Eigen::Index c = 0; c < V.size(); ++c) w.segment<3>(3 * c).setConstant(V[c]);
+    return w;
+}
+}  // namespace
+
+nlohmann::json reproduceCollapse(const store::SnapshotFile& f, const CollapseGalerkinOptions& options) {
+    const CollapseGalerkin rom = CollapseGalerkin::build(f, options);
+    const auto& m = rom.mesh;
+    const auto& times = f.times();
+    const Eigen::VectorXd wU = perComponent(m.V);
+
+    // The pressure closure on the stored fields: lithostatic against the solver's p, in the powder,
+    // and what it does to the mu(I) viscosity there.
+    const ColumnPressure lith(m, rom.gravity);
+    double pErr = 0, nuErr = 0;
+    std::vector<double> pErrAt(times.size());
+    for (size_t i = 0; i < times.size(); ++i) {
+        const Eigen::VectorXd al = clamp01(f.column("alpha", i));
+        const Eigen::VectorXd rho = (rom.airRho + (rom.law.rho - rom.airRho) * al.array()).matrix();
+        const Eigen::VectorXd p = f.column("p", i), pl = lith(rho);
+        const Eigen::VectorXd w = al.cwiseProduct(m.V);
+        pErrAt[i] = weightedNorm(pl - p, w) / weightedNorm(p, w);
+        pErr += pErrAt[i];
+        const Eigen::VectorXd sr = strainRate(m, asVectors(f.column("U", i)), asVectors(f.boundaryColumn("U", i)));
+        const Eigen::VectorXd nu = rom.law.nu(sr, p), nul = rom.law.nu(sr, pl);
+        nuErr += weightedNorm(nul - nu, w) / weightedNorm(nu, w);
+    }
+
+    std::vector<double> outputs(times.begin() + 1, times.end());
+    PressureAt stored;
+    if (options.storedPressure)
+        stored = [&](double t) {
+            const auto hi = std::min<size_t>(std::upper_bound(times.begin(), times.end(), t) - times.begin(), times.size() - 1);
+            const size_t lo = hi == 0 ? 0 : hi - 1;
+            const double w = hi == lo ? 0 : std::clamp((t - times[lo]) / (times[hi] - times[lo]), 0.0, 1.0);
+            return Eigen::VectorXd((1 - w) * f.column("p", lo) + w * f.column("p", hi));
+        };
+    const CollapseTrajectory tr =
+        runCollapseGalerkin(rom, f.column("alpha", 0), f.faceColumn("phi", 0), times[0], outputs, stored);
+
+    double peakU = 0;
+    std::vector<Eigen::VectorXd> Us;
+    for (size_t i = 0; i < times.size(); ++i) {
+        Us.push_back(f.column("U", i));
+        peakU = std::max(peakU, weightedNorm(Us.back(), wU));
+    }
+    std::vector<bool> trained(times.size(), false);
+    for (auto i : rom.trainTimes) trained[i] = true;
+
+    nlohmann::json rows = nlohmann::json::array();
+    double aSum = 0, aMax = 0, uSum = 0, uMax = 0, aHold = 0, uHold = 0;
+    int held = 0;
+    for (size_t k = 0; k < outputs.size(); ++k) {
+        const size_t i = k + 1;
+        const Eigen::VectorXd as = f.column("alpha", i);
+        const Eigen::VectorXd ar = tr.alpha[k];
+        const double aErr = weightedNorm(ar - as, m.V) / weightedNorm(as, m.V);
+        const Eigen::VectorXd Ur = rom.cellU * tr.flow[k];
+        const double uErr = weightedNorm(Ur - Us[i], wU) / peakU;
+        // Lower bounds: the stored fields' own projections on the bases.
+        const Eigen::VectorXd phi = f.faceColumn("phi", i);
+        Eigen::VectorXd aProj = rom.flow.project(phi.cwiseQuotient(m.magSf));
+        const double uProj = weightedNorm(rom.cellU * aProj - Us[i], wU) / peakU;
+        double alphaProj = 0;
+        if (rom.alpha) alphaProj = weightedNorm(rom.alphaLift + rom.alpha->reconstruct(rom.alpha->project(as - rom.alphaLift)) - as, m.V) /
+                                   weightedNorm(as, m.V);
+        rows.push_back({{"t", times[i]},
+                        {"trained", static_cast<bool>(trained[i])},
+                        {"alpha_error", aErr},
+                        {"alpha_projection_error", alphaProj},
+                        {"u_error", uErr},
+                        {"u_projection_error", uProj},
+                        {"runout_star", rom.shape.runoutStar(m, ar)},
+                        {"runout_star_full", rom.shape.runoutStar(m, as)},
+                        {"height_star", rom.shape.heightStar(m, ar)},
+                        {"height_star_full", rom.shape.heightStar(m, as)},
+                        {"pressure_closure_error", pErrAt[i]},
+                        {"kinetic_energy_j", tr.kineticEnergy[k]},
+                        {"powder_volume_m3", tr.powderVolume[k]}});
+        aSum += aErr;
+        uSum += uErr;
+        aMax = std::max(aMax, aErr);
+        uMax = std::max(uMax, uErr);
+        if (!trained[i]) {
+            aHold += aErr;
+            uHold += uErr;
+            ++held;
+        }
+    }
+    const auto& last = rows.back();
+    const double n = static_cast<double>(rows.size());
+    const double Lr = last["runout_star"], Lf = last["runout_star_full"], Hr = last["height_star"],
+                 Hf = last["height_star_full"];
+    return {{"snapshots", f.path().string()},
+            {"cells", m.cells},
+            {"stored_times", times.size()},
+            {"train_times", rom.trainTimes.size()},
+            {"modes", rom.modes()},
+            {"flow_energy_kept", rom.flow.keptEnergy()},
+            {"alpha", rom.alpha ? "reduced" : "mesh"},
+            {"pressure", options.storedPressure ? "stored (diagnosis)" : "lithostatic"},
+            {"alpha_modes", rom.alpha ? rom.alpha->modes.cols() : 0},
+            {"pressure_closure_error", pErr / static_cast<double>(times.size())},
+            {"viscosity_closure_error", nuErr / static_cast<double>(times.size())},
+            {"alpha_error_mean", aSum / n},
+            {"alpha_error_max", aMax},
+            {"u_error_mean", uSum / n},
+            {"u_error_max", uMax},
+            {"alpha_error_held_out_mean", held ? aHold / held : 0.0},
+            {"u_error_held_out_mean", held ? uHold / held : 0.0},
+            {"runout_star", Lr},
+            {"runout_star_full", Lf},
+            {"runout_error", (Lr - Lf) / Lf},
+            {"height_star", Hr},
+            {"height_star_full", Hf},
+            {"height_error", (Hr - Hf) / Hf},
+            {"clipped_volume_share", tr.clippedVolume / tr.powderVolume.front()},
+            {"steps", tr.steps},
+            {"ode_steps", tr.odeSteps},
+            {"rhs_evaluations", tr.rhsEvaluations},
+            {"build_seconds", rom.buildSeconds},
+            {"online_seconds", tr.wallSeconds},
+            {"times", rows}};
+}
+
+}  // namespace mixload::rom

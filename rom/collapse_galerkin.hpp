@@ -1,0 +1,105 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// A POD-Galerkin reduced model of the granular column collapse (VOF, mu(I) powder and air).
+//
+// The flow is reduced in its face fluxes, not its cell velocities: phi = |Sf| Psi a, with Psi the
+// POD modes of the stored fluxes' normal velocities. Every stored flux is discretely
+// divergence-free, so every mode is, and the momentum equation written per face and projected on
+// the modes in the density-weighted face product loses its pressure term exactly (a discrete
+// summation by parts leaves only the open boundary, where p_rgh = 0): no pressure modes, no
+// supremizers, no Poisson equation. What drives the collapse is the projected gravity term
+// -gh grad(rho), whose projection is the power of gravity on the reduced flow. The cell velocity
+// each mode carries is OpenFOAM's reconstruct of its flux.
+//
+// Projected per face f and mode k, with V_f = |Sf| / deltaCoeff_f:
+//   sum_j [sum_f V_f rho_f Psi_fk Psi_fj] da_j/dt
+//     = sum_f V_f Psi_fk n_f . interp(-rho (U.grad)U + div(mu (grad U + dev2 grad U^T)))_f
+//       - sum_f |Sf| Psi_fk gh_f (rho_N - rho_O)
+// The mu(I) law needs the pressure, which the projection removed: the model uses the lithostatic
+// pressure of its own powder (rom/collapse_shape), and the check measures that closure's error on
+// the stored fields.
+//
+// The powder fraction is either kept on the mesh and carried by the reduced flux (van Leer,
+// explicit), or reduced itself (alpha = alpha_0 + X b, the same explicit update projected on X).
+// Time: alpha and the flow alternate in steps of the transport's Courant limit; within each, the
+// flow's stiff ODE (the capped viscosity) goes to CVODE's BDF. The model watches its kinetic energy
+// against the potential energy the column can release, and its powder volume, and stops with an
+// error naming which one failed instead of running on.
+#pragma once
+
+#include <functional>
+#include <optional>
+
+#include <nlohmann/json.hpp>
+
+#include "rom/collapse_shape.hpp"
+#include "rom/fv_mesh.hpp"
+#include "rom/granular_viscosity.hpp"
+#include "rom/pod.hpp"
+#include "store/snapshot_file.hpp"
+
+namespace mixload::rom {
+
+struct CollapseGalerkinOptions {
+    int modes = 0;                // flow modes (0: by energy)
+    double energy = 0.9999;       // share of the flow's (density-weighted) energy the modes keep
+    bool reducedAlpha = false;    // reduce alpha too (else it is carried on the mesh)
+    int alphaModes = 0;           // 0: by alphaEnergy
+    double alphaEnergy = 0.99999;
+    int trainEvery = 1;           // train on every k-th stored time (the rest are held out)
+    double courant = 0.3;         // of the transport step
+    double maxStepTstar = 0.01;   // largest step, in t*
+    double rtol = 1e-5;           // CVODE's relative tolerance
+    double massTolerance = 0.01;  // stop when the powder volume drifts by more than this share
+    // Diagnosis only (reproduceCollapse): the mu(I) law reads the solver's stored pressure,
+    // interpolated in time, instead of the lithostatic closure; isolates the closure's effect.
+    bool storedPressure = false;
+};
+
+// A failure of the reduced model itself (energy or mass out of bounds, the integrator stuck):
+// reported with what failed, never a result.
+struct RomFailure : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+struct CollapseGalerkin {
+    enum class Wall { noSlip, slip, open };
+
+    FvMesh mesh;
+    GranularLaw law;
+    double airRho = 0, airNu = 0, gravity = 0, tStar = 0;
+    CollapseShape shape;
+    std::vector<Wall> walls;      // per boundary face
+    PodBasis flow;                // face normal velocities (flux / |Sf|)
+    Eigen::MatrixXd cellU;        // 3 cells x modes: each mode's reconstructed cell velocity (row-major)
+    std::optional<PodBasis> alpha;
+    Eigen::VectorXd alphaLift;    // alpha = alphaLift + X b (reduced alpha)
+    CollapseGalerkinOptions options;
+    std::vector<size_t> trainTimes;
+    double buildSeconds = 0;
+
+    static CollapseGalerkin build(const store::SnapshotFile& f, const CollapseGalerkinOptions& options);
+    int modes() const { return static_cast<int>(flow.modes.cols()); }
+};
+
+struct CollapseTrajectory {
+    std::vector<double> times;
+    std::vector<Eigen::VectorXd> alpha, flow;  // per output time: alpha on the mesh, flow coefficients
+    std::vector<double> kineticEnergy, powderVolume;
+    long steps = 0, odeSteps = 0, rhsEvaluations = 0;
+    double clippedVolume = 0;                  // alpha clipped back into [0, 1] (kept-alpha model)
+    double wallSeconds = 0;
+};
+
+// Runs the model from (alpha0, the flux phi0) at t0 through every output time (increasing, > t0).
+// pressureAt, when given, replaces the lithostatic pressure (the stored-pressure diagnosis).
+using PressureAt = std::function<Eigen::VectorXd(double t)>;
+CollapseTrajectory runCollapseGalerkin(const CollapseGalerkin& rom, const Eigen::VectorXd& alpha0,
+                                       const Eigen::VectorXd& phi0, double t0, const std::vector<double>& outputs,
+                                       const PressureAt& pressureAt = {});
+
+// Builds the model on a snapshot file's training times, runs it from the first stored time through
+// all of them, and compares with every stored field: alpha and U relative errors beside their
+// projection errors, the runout and height, the pressure closure's error, and the costs.
+nlohmann::json reproduceCollapse(const store::SnapshotFile& f, const CollapseGalerkinOptions& options);
+
+}  // namespace mixload::rom

@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// SUNDIALS CVODE (variable-order BDF, Newton iterations on a dense difference-quotient Jacobian)
+// for the small stiff systems of reduced models. The viscous terms of a mu(I) flow are stiff (the
+// capped viscosity of powder at rest), which rules out explicit schemes at the steps the transport
+// allows. Errors thrown by the right-hand side cross CVODE's C code as a failure flag and are
+// rethrown unchanged.
+#pragma once
+
+#include <functional>
+#include <memory>
+
+#include <Eigen/Dense>
+
+namespace mixload::rom {
+
+class CvodeIntegrator {
+  public:
+    using Rhs = std::function<void(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dydt)>;
+
+    // rtol: relative tolerance; atol: absolute tolerance per component (size n).
+    CvodeIntegrator(Eigen::Index n, Rhs rhs, double rtol, const Eigen::VectorXd& atol);
+    ~CvodeIntegrator();
+    CvodeIntegrator(const CvodeIntegrator&) = delete;
+    CvodeIntegrator& operator=(const CvodeIntegrator&) = delete;
+
+    // Integrates y from t to tOut, restarting CVODE's history at (t, y): the caller may have changed
+    // what the right-hand side depends on. Throws std::runtime_error naming CVODE's failure.
+    void advance(double t, double tOut, Eigen::VectorXd& y);
+
+    long steps() const;        // internal steps taken, summed over every advance
+    long rhsEvaluations() const;
+
+  private:
+    struct State;
+    std::unique_ptr<State> s_;
+};
+
+}  // namespace mixload::rom
