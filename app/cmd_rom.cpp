@@ -226,17 +226,23 @@ void addRom(CLI::App& app, Action& action) {
     gal->add_option("--alpha-energy", g->opt.alphaEnergy, "Share of alpha's energy its modes keep")->capture_default_str();
     gal->add_option("--train-every", g->opt.trainEvery, "Train on every k-th stored time; the others are held out")->capture_default_str();
     gal->add_option("--courant", g->opt.courant, "Transport Courant number of a step")->capture_default_str();
+    gal->add_option("--c-alpha", g->opt.cAlpha, "Interface compression of the alpha transport (0: none)")->capture_default_str();
     gal->add_option("--rtol", g->opt.rtol, "CVODE relative tolerance")->capture_default_str();
+    gal->add_flag("--restart-each-step", g->opt.restartEachStep,
+                  "Restart CVODE after every alpha step (the strict splitting; slower)");
     gal->add_option("--mass-tolerance", g->opt.massTolerance,
                     "Stop with an error when the powder volume drifts by more than this share")->capture_default_str();
     gal->add_flag("--stored-pressure", g->opt.storedPressure,
                   "Diagnosis: the mu(I) law reads the run's stored pressure instead of the lithostatic closure");
+    gal->add_flag("--stored-flux", g->opt.storedFlux,
+                  "Diagnosis: alpha is carried by the run's stored flux (no reduced flow): the transport's own error");
     gal->add_flag("--json", g->json, "Print JSON (with the per-time errors)");
     gal->callback([&action, g] {
         action = [g] {
             if (!(g->opt.courant > 0 && g->opt.courant <= 0.5))
                 throw InputError("courant", std::to_string(g->opt.courant), "(0, 0.5]: the van Leer transport's bound");
             if (!(g->opt.energy > 0 && g->opt.energy <= 1)) throw InputError("energy", std::to_string(g->opt.energy), "(0, 1]");
+            if (!(g->opt.cAlpha >= 0 && g->opt.cAlpha <= 4)) throw InputError("c-alpha", std::to_string(g->opt.cAlpha), "[0, 4]");
             if (!(g->opt.massTolerance > 0 && g->opt.massTolerance <= 1))
                 throw InputError("mass-tolerance", std::to_string(g->opt.massTolerance), "(0, 1]");
             const store::SnapshotFile f(g->file);

@@ -17,14 +17,15 @@ Eigen::VectorXd alphaBoundary(const FvMesh& m, const Eigen::VectorXd& alpha, con
     return b;
 }
 
-Eigen::VectorXd alphaRate(const FvMesh& m, const Eigen::VectorXd& alpha, const Eigen::VectorXd& flux, double inflow) {
+Eigen::VectorXd advanceAlpha(const FvMesh& m, const Eigen::VectorXd& alpha, const Eigen::VectorXd& flux, double dt,
+                             double inflow, double cAlpha) {
     const Eigen::VectorXd ab = alphaBoundary(m, alpha, flux, inflow);
     const Vectors g = grad(m, alpha, ab);
+    // The bounded part: van Leer face values.
     Eigen::VectorXd af(m.faces());
     for (Eigen::Index i = 0; i < m.internalFaces; ++i) {
         const auto o = m.owner[i], n = m.neighbour[i];
-        const bool fromOwner = flux[i] >= 0;
-        const auto up = fromOwner ? o : n;
+        const auto up = flux[i] >= 0 ? o : n;
         // NVDTVD::r as OpenFOAM: the upwind cell's gradient against the jump across the face.
         const double jump = alpha[n] - alpha[o];
         const double along = (m.C.row(n) - m.C.row(o)).dot(g.row(up));
@@ -36,7 +37,45 @@ Eigen::VectorXd alphaRate(const FvMesh& m, const Eigen::VectorXd& alpha, const E
         af[i] = alpha[up] + psi * (lin - alpha[up]);
     }
     af.tail(m.boundaryFaces) = ab;
-    return -div(m, flux.cwiseProduct(af));
+    Eigen::VectorXd low = alpha - dt * div(m, flux.cwiseProduct(af));
+    if (cAlpha <= 0) return low;
+
+    // The compression flux on internal faces, along the interface normal.
+    const double deltaN = 1e-8 / std::cbrt(m.V.mean());
+    Eigen::VectorXd comp = Eigen::VectorXd::Zero(m.internalFaces);
+    double phicMax = 0;
+    for (Eigen::Index i = 0; i < m.internalFaces; ++i) phicMax = std::max(phicMax, std::abs(flux[i]) / m.magSf[i]);
+    for (Eigen::Index i = 0; i < m.internalFaces; ++i) {
+        const auto o = m.owner[i], n = m.neighbour[i];
+        const double w = m.weights[i];
+        const Eigen::RowVector3d gf = w * g.row(o) + (1 - w) * g.row(n);
+        const double nHat = gf.dot(m.Sf.row(i)) / (gf.norm() + deltaN);
+        const double phir = std::min(cAlpha * std::abs(flux[i]) / m.magSf[i], phicMax) * nHat;
+        const double a1 = w * alpha[o] + (1 - w) * alpha[n];
+        comp[i] = phir * a1 * (1 - a1);
+    }
+    // Zalesak's limiter with the bounds 0 and 1: each cell takes in at most what fills it and gives
+    // at most what it holds after the bounded step.
+    Eigen::VectorXd in = Eigen::VectorXd::Zero(m.cells), out = Eigen::VectorXd::Zero(m.cells);
+    for (Eigen::Index i = 0; i < m.internalFaces; ++i) {
+        const double a = dt * comp[i];  // volume moved from owner to neighbour
+        const auto from = a > 0 ? m.owner[i] : m.neighbour[i], to = a > 0 ? m.neighbour[i] : m.owner[i];
+        out[from] += std::abs(a);
+        in[to] += std::abs(a);
+    }
+    Eigen::VectorXd rIn(m.cells), rOut(m.cells);
+    for (Eigen::Index c = 0; c < m.cells; ++c) {
+        const double room = std::max(0.0, 1 - low[c]) * m.V[c], held = std::max(0.0, low[c]) * m.V[c];
+        rIn[c] = in[c] > room ? room / in[c] : 1;
+        rOut[c] = out[c] > held ? held / out[c] : 1;
+    }
+    Eigen::VectorXd limited(m.faces());
+    limited.setZero();
+    for (Eigen::Index i = 0; i < m.internalFaces; ++i) {
+        const auto o = m.owner[i], n = m.neighbour[i];
+        limited[i] = comp[i] * (comp[i] > 0 ? std::min(rOut[o], rIn[n]) : std::min(rIn[o], rOut[n]));
+    }
+    return low - dt * div(m, limited);
 }
 
 double transportStep(const FvMesh& m, const Eigen::VectorXd& flux, double courant) {

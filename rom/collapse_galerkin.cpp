@@ -235,7 +235,7 @@ CollapseGalerkin CollapseGalerkin::build(const store::SnapshotFile& f, const Col
 
 CollapseTrajectory runCollapseGalerkin(const CollapseGalerkin& rom, const Eigen::VectorXd& alpha0,
                                        const Eigen::VectorXd& phi0, double t0, const std::vector<double>& outputs,
-                                       const PressureAt& pressureAt) {
+                                       const StoredFields& stored) {
     const auto wall0 = Clock::now();
     const auto& m = rom.mesh;
     const auto& o = rom.options;
@@ -262,22 +262,23 @@ CollapseTrajectory runCollapseGalerkin(const CollapseGalerkin& rom, const Eigen:
     for (const double tOut : outputs) {
         if (!(tOut > t)) throw InputError("output time", std::to_string(tOut), "times after the start, increasing");
         while (t < tOut * (1 - 1e-12)) {
-            const Eigen::VectorXd flux = model.flux(a);
+            const Eigen::VectorXd flux = stored.flux ? stored.flux(t) : model.flux(a);
             const double dt = std::min({transportStep(m, flux, o.courant), maxStep, tOut - t});
-            const Eigen::VectorXd rate = alphaRate(m, alpha, flux, 0.0);
+            const Eigen::VectorXd next = advanceAlpha(m, alpha, flux, dt, 0.0, o.cAlpha);
             if (rom.alpha) {
-                b += dt * rom.alpha->modes.transpose() * m.V.cwiseProduct(rate);
+                b += rom.alpha->modes.transpose() * m.V.cwiseProduct(next - alpha);
                 alpha = rom.alphaLift + rom.alpha->modes * b;
             } else {
-                alpha += dt * rate;
+                alpha = next;
                 const Eigen::VectorXd clipped = clamp01(alpha);
                 out.clippedVolume += (alpha - clipped).cwiseAbs().dot(m.V);
                 alpha = clipped;
             }
             z = model.freeze(alpha);
-            if (pressureAt) z.p = pressureAt(t + dt);
+            if (stored.pressure) z.p = stored.pressure(t + dt);
             try {
-                ode.advance(t, t + dt, a);
+                if (stored.flux) a = model.project(z, stored.flux(t + dt));
+                else ode.advance(t, t + dt, a, o.restartEachStep);
             } catch (const std::runtime_error& e) {
                 throw RomFailure(std::string("reduced collapse model: the flow integration failed at t = ") +
                                  std::to_string(t) + " s (" + e.what() + ")");
@@ -347,14 +348,20 @@ nlohmann::json reproduceCollapse(const store::SnapshotFile& f, const CollapseGal
     }
 
     std::vector<double> outputs(times.begin() + 1, times.end());
-    PressureAt stored;
-    if (options.storedPressure)
-        stored = [&](double t) {
+    // Linear in time between stored times.
+    const auto storedAt = [&](auto column) {
+        return [&f, &times, column](double t) {
             const auto hi = std::min<size_t>(std::upper_bound(times.begin(), times.end(), t) - times.begin(), times.size() - 1);
             const size_t lo = hi == 0 ? 0 : hi - 1;
             const double w = hi == lo ? 0 : std::clamp((t - times[lo]) / (times[hi] - times[lo]), 0.0, 1.0);
-            return Eigen::VectorXd((1 - w) * f.column("p", lo) + w * f.column("p", hi));
+            return Eigen::VectorXd((1 - w) * column(f, lo) + w * column(f, hi));
         };
+    };
+    StoredFields stored;
+    if (options.storedPressure)
+        stored.pressure = storedAt([](const store::SnapshotFile& s, size_t i) { return s.column("p", i); });
+    if (options.storedFlux)
+        stored.flux = storedAt([](const store::SnapshotFile& s, size_t i) { return s.faceColumn("phi", i); });
     const CollapseTrajectory tr =
         runCollapseGalerkin(rom, f.column("alpha", 0), f.faceColumn("phi", 0), times[0], outputs, stored);
 
@@ -419,6 +426,7 @@ nlohmann::json reproduceCollapse(const store::SnapshotFile& f, const CollapseGal
             {"flow_energy_kept", rom.flow.keptEnergy()},
             {"alpha", rom.alpha ? "reduced" : "mesh"},
             {"pressure", options.storedPressure ? "stored (diagnosis)" : "lithostatic"},
+            {"flux", options.storedFlux ? "stored (diagnosis)" : "reduced"},
             {"alpha_modes", rom.alpha ? rom.alpha->modes.cols() : 0},
             {"pressure_closure_error", pErr / static_cast<double>(times.size())},
             {"viscosity_closure_error", nuErr / static_cast<double>(times.size())},

@@ -47,12 +47,17 @@ struct CollapseGalerkinOptions {
     double alphaEnergy = 0.99999;
     int trainEvery = 1;           // train on every k-th stored time (the rest are held out)
     double courant = 0.3;         // of the transport step
+    double cAlpha = 1;            // interface compression (the case's cAlpha)
     double maxStepTstar = 0.01;   // largest step, in t*
-    double rtol = 1e-5;           // CVODE's relative tolerance
+    double rtol = 3e-3;           // CVODE's relative tolerance (1e-2 to 1e-5 move L*f by 0.02%)
+    bool restartEachStep = false; // restart CVODE after each alpha step (else it carries its history on)
     double massTolerance = 0.01;  // stop when the powder volume drifts by more than this share
     // Diagnosis only (reproduceCollapse): the mu(I) law reads the solver's stored pressure,
     // interpolated in time, instead of the lithostatic closure; isolates the closure's effect.
     bool storedPressure = false;
+    // Diagnosis only: alpha is carried by the solver's stored flux (no reduced flow), which isolates
+    // the transport's own error.
+    bool storedFlux = false;
 };
 
 // A failure of the reduced model itself (energy or mass out of bounds, the integrator stuck):
@@ -91,11 +96,13 @@ struct CollapseTrajectory {
 };
 
 // Runs the model from (alpha0, the flux phi0) at t0 through every output time (increasing, > t0).
-// pressureAt, when given, replaces the lithostatic pressure (the stored-pressure diagnosis).
-using PressureAt = std::function<Eigen::VectorXd(double t)>;
+// The diagnoses' stand-ins: either, when given, replaces the model's own pressure or flux.
+struct StoredFields {
+    std::function<Eigen::VectorXd(double t)> pressure, flux;
+};
 CollapseTrajectory runCollapseGalerkin(const CollapseGalerkin& rom, const Eigen::VectorXd& alpha0,
                                        const Eigen::VectorXd& phi0, double t0, const std::vector<double>& outputs,
-                                       const PressureAt& pressureAt = {});
+                                       const StoredFields& stored = {});
 
 // Builds the model on a snapshot file's training times, runs it from the first stored time through
 // all of them, and compares with every stored field: alpha and U relative errors beside their

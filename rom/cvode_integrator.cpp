@@ -21,7 +21,9 @@ struct CvodeIntegrator::State {
     void* mem = nullptr;
     Rhs rhs;
     Eigen::Index n = 0;
-    long steps = 0, rhsEvals = 0;  // summed over advances (CVodeReInit resets CVODE's counters)
+    bool started = false;
+    // CVodeReInit resets CVODE's counters: the totals of earlier restarts, and the current one's.
+    long steps = 0, rhsEvals = 0, stepsSinceRestart = 0, rhsSinceRestart = 0;
     Eigen::VectorXd yIn, dyOut;
     std::exception_ptr error;
 
@@ -63,6 +65,7 @@ CvodeIntegrator::CvodeIntegrator(Eigen::Index n, Rhs rhs, double rtol, const Eig
     check(CVodeSVtolerances(s_->mem, rtol, s_->atol), "CVodeSVtolerances");
     check(CVodeSetUserData(s_->mem, s_.get()), "CVodeSetUserData");
     check(CVodeSetMaxNumSteps(s_->mem, 100000), "CVodeSetMaxNumSteps");
+    check(CVodeSetErrFile(s_->mem, nullptr), "CVodeSetErrFile");  // failures are thrown, with CVODE's flag
     s_->A = SUNDenseMatrix(n, n, s_->ctx);
     s_->ls = SUNLinSol_Dense(s_->y, s_->A, s_->ctx);
     check(CVodeSetLinearSolver(s_->mem, s_->ls, s_->A), "CVodeSetLinearSolver");
@@ -78,10 +81,16 @@ CvodeIntegrator::~CvodeIntegrator() {
     SUNContext_Free(&s_->ctx);
 }
 
-void CvodeIntegrator::advance(double t, double tOut, Eigen::VectorXd& y) {
+void CvodeIntegrator::advance(double t, double tOut, Eigen::VectorXd& y, bool restart) {
     if (y.size() != s_->n) throw std::invalid_argument("CVODE integrator: state of the wrong size");
-    Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(s_->y), s_->n) = y;
-    check(CVodeReInit(s_->mem, t, s_->y), "CVodeReInit");
+    if (restart || !s_->started) {
+        s_->steps += s_->stepsSinceRestart;
+        s_->rhsEvals += s_->rhsSinceRestart;
+        s_->stepsSinceRestart = s_->rhsSinceRestart = 0;
+        Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(s_->y), s_->n) = y;
+        check(CVodeReInit(s_->mem, t, s_->y), "CVodeReInit");
+        s_->started = true;
+    }
     check(CVodeSetStopTime(s_->mem, tOut), "CVodeSetStopTime");
     sunrealtype reached = t;
     s_->error = nullptr;
@@ -94,11 +103,11 @@ void CvodeIntegrator::advance(double t, double tOut, Eigen::VectorXd& y) {
     CVodeGetNumSteps(s_->mem, &nst);
     CVodeGetNumRhsEvals(s_->mem, &nfe);
     CVodeGetNumLinRhsEvals(s_->mem, &nfeLs);
-    s_->steps += nst;
-    s_->rhsEvals += nfe + nfeLs;
+    s_->stepsSinceRestart = nst;
+    s_->rhsSinceRestart = nfe + nfeLs;
 }
 
-long CvodeIntegrator::steps() const { return s_->steps; }
-long CvodeIntegrator::rhsEvaluations() const { return s_->rhsEvals; }
+long CvodeIntegrator::steps() const { return s_->steps + s_->stepsSinceRestart; }
+long CvodeIntegrator::rhsEvaluations() const { return s_->rhsEvals + s_->rhsSinceRestart; }
 
 }  // namespace mixload::rom

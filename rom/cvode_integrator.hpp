@@ -23,9 +23,11 @@ class CvodeIntegrator {
     CvodeIntegrator(const CvodeIntegrator&) = delete;
     CvodeIntegrator& operator=(const CvodeIntegrator&) = delete;
 
-    // Integrates y from t to tOut, restarting CVODE's history at (t, y): the caller may have changed
-    // what the right-hand side depends on. Throws std::runtime_error naming CVODE's failure.
-    void advance(double t, double tOut, Eigen::VectorXd& y);
+    // Integrates y from t to tOut. With restart, CVODE's history starts again at (t, y) (order 1, a
+    // new Jacobian); without, it goes on from where the last advance ended (y and t must be what it
+    // returned), which is far cheaper when what the right-hand side depends on changes only a little
+    // between advances. Throws std::runtime_error naming CVODE's failure.
+    void advance(double t, double tOut, Eigen::VectorXd& y, bool restart = true);
 
     long steps() const;        // internal steps taken, summed over every advance
     long rhsEvaluations() const;

@@ -53,11 +53,10 @@ TEST(CollapseGalerkin, PartsHoldOnTheRealMesh) {
     // step at Courant 0.3 keeps alpha in [0, 1].
     const size_t t = f.times().size() / 4;
     const Eigen::VectorXd alpha = f.column("alpha", t), phi = f.faceColumn("phi", t);
-    const Eigen::VectorXd rate = rom::alphaRate(m, alpha, phi, 0.0);
     const Eigen::VectorXd ab = rom::alphaBoundary(m, alpha, phi, 0.0);
-    EXPECT_NEAR(rate.dot(m.V), -phi.tail(m.boundaryFaces).dot(ab), 1e-15);
     const double dt = rom::transportStep(m, phi, 0.3);
-    const Eigen::VectorXd next = alpha + dt * rate;
+    const Eigen::VectorXd next = rom::advanceAlpha(m, alpha, phi, dt, 0.0, 1.0);
+    EXPECT_NEAR((next - alpha).dot(m.V), -dt * phi.tail(m.boundaryFaces).dot(ab), 1e-15);
     // No new extrema beyond what the stored flux's own divergence (the pressure solver's tolerance)
     // creates; air enters with 0.
     const double slack = dt * rom::div(m, phi).cwiseAbs().maxCoeff() + 1e-12;
@@ -80,11 +79,12 @@ TEST(CollapseGalerkin, ReproducesTheRunItWasBuiltOn) {
                   << "), alpha error " << j["alpha_error_mean"] << ", online " << j["online_seconds"] << " s\n";
         EXPECT_EQ(j["modes"], 10);
         EXPECT_EQ(j["times"].size() + 1, j["stored_times"].get<size_t>());
-        // Measured: L*f +8% / -3%, H*f +5% / +10%, alpha 17% / 15% (README); these bounds catch a
-        // model that stops moving or runs away, not the last percent.
-        EXPECT_LT(std::abs(j["runout_error"].get<double>()), 0.15);
-        EXPECT_LT(std::abs(j["height_error"].get<double>()), 0.15);
-        EXPECT_LT(j["alpha_error_mean"].get<double>(), 0.25);
+        // Measured with 10 modes (README): alpha on the mesh L*f -0.3%, H*f +2.8%, alpha 9.7%;
+        // reduced alpha in the README's table. The bounds catch a model that stops moving, runs away or
+        // loses its front (without compression L*f came out +68%), not the last percent.
+        EXPECT_LT(std::abs(j["runout_error"].get<double>()), reducedAlpha ? 0.15 : 0.05);
+        EXPECT_LT(std::abs(j["height_error"].get<double>()), reducedAlpha ? 0.15 : 0.06);
+        EXPECT_LT(j["alpha_error_mean"].get<double>(), reducedAlpha ? 0.25 : 0.15);
         EXPECT_GT(j["runout_star"].get<double>(), 1.0);  // it collapsed
         EXPECT_LT(std::abs(j["times"].back()["powder_volume_m3"].get<double>() / j["times"].front()["powder_volume_m3"].get<double>() - 1),
                   0.01);
