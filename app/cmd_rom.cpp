@@ -210,15 +210,17 @@ void addRom(CLI::App& app, Action& action) {
     });
 
     struct GalerkinCmd {
-        std::string file;
+        std::vector<std::string> files, check;
         rom::CollapseGalerkinOptions opt;
         bool json = false;
     };
     auto g = std::make_shared<GalerkinCmd>();
     auto* gal = cmd->add_subcommand(
-        "galerkin", "POD-Galerkin model of a collapse: build it on a run's snapshots (alpha, U, p, phi), run it "
-                    "from the first stored time and compare with every stored field");
-    gal->add_option("FILE", g->file, "Snapshot file of a collapse (snapshots export ... --fields alpha,U,p,phi)")->required();
+        "galerkin", "POD-Galerkin model of the collapse: build it on runs' snapshots (alpha, U, p, phi), run it from "
+                    "rest with each checked run's mu(I) coefficients and compare with every stored field");
+    gal->add_option("FILES", g->files, "Training snapshot files of collapses on one mesh (snapshots export ... --fields alpha,U,p,phi --float64)")
+        ->required();
+    gal->add_option("--check", g->check, "Runs to compare with (default: the training runs); held-out runs make it a prediction");
     gal->add_option("--modes", g->opt.modes, "Flow modes (0: as many as --energy needs)")->capture_default_str();
     gal->add_option("--energy", g->opt.energy, "Share of the flow's energy the modes keep (with --modes 0)")->capture_default_str();
     gal->add_flag("--reduced-alpha", g->opt.reducedAlpha, "Reduce the powder fraction too (else it is carried on the mesh)");
@@ -245,16 +247,26 @@ void addRom(CLI::App& app, Action& action) {
             if (!(g->opt.cAlpha >= 0 && g->opt.cAlpha <= 4)) throw InputError("c-alpha", std::to_string(g->opt.cAlpha), "[0, 4]");
             if (!(g->opt.massTolerance > 0 && g->opt.massTolerance <= 1))
                 throw InputError("mass-tolerance", std::to_string(g->opt.massTolerance), "(0, 1]");
-            const store::SnapshotFile f(g->file);
-            auto j = rom::reproduceCollapse(f, g->opt);
+            std::vector<store::SnapshotFile> train;
+            for (const auto& f : g->files) train.emplace_back(f);
+            std::vector<const store::SnapshotFile*> ptrs;
+            for (const auto& f : train) ptrs.push_back(&f);
+            const auto model = rom::CollapseGalerkin::build(ptrs, g->opt);
+            nlohmann::json checks = nlohmann::json::array();
+            for (const auto& c : g->check.empty() ? g->files : g->check) checks.push_back(rom::checkCollapse(model, store::SnapshotFile(c)));
             if (g->json) {
-                std::cout << j.dump(2) << '\n';
+                std::cout << (checks.size() == 1 ? checks[0] : checks).dump(2) << '\n';
                 return 0;
             }
-            std::cout << std::setprecision(4) << "POD-Galerkin collapse on " << j["cells"] << " cells: " << j["modes"]
-                      << " flow modes (energy " << j["flow_energy_kept"].get<double>() << "), alpha "
-                      << j["alpha"].get<std::string>() << ", " << j["train_times"] << " of " << j["stored_times"]
-                      << " stored times trained\n  pressure closure (lithostatic) error " << j["pressure_closure_error"].get<double>()
+            std::cout << std::setprecision(4) << "POD-Galerkin collapse on " << model.mesh.cells << " cells: " << model.modes()
+                      << " flow modes (energy " << model.flow.keptEnergy() << "), alpha "
+                      << (model.alpha ? "reduced (" + std::to_string(model.alpha->modes.cols()) + " modes)" : std::string("on the mesh"))
+                      << ", " << model.trainTimes << " snapshots of " << model.trainFiles.size() << " run(s), built in "
+                      << model.buildSeconds << " s\n";
+            for (const auto& j : checks) {
+            std::cout << (j["trained_on_this_run"].get<bool>() ? "reproducing " : "predicting ") << j["snapshots"].get<std::string>()
+                      << " (mu_s " << j["mu_s"].get<double>() << ", mu_d " << j["mu_d"].get<double>() << ", I0 "
+                      << j["i0"].get<double>() << ")\n  pressure closure (lithostatic) error " << j["pressure_closure_error"].get<double>()
                       << ", viscosity " << j["viscosity_closure_error"].get<double>() << "\n  alpha rel. L2 error mean "
                       << j["alpha_error_mean"].get<double>() << " max " << j["alpha_error_max"].get<double>()
                       << "; U error (of peak |U|) mean " << j["u_error_mean"].get<double>() << " max "
@@ -262,8 +274,8 @@ void addRom(CLI::App& app, Action& action) {
                       << j["runout_star_full"].get<double>() << ", " << 100 * j["runout_error"].get<double>() << "%), H*f "
                       << j["height_star"].get<double>() << " (full " << j["height_star_full"].get<double>() << ", "
                       << 100 * j["height_error"].get<double>() << "%)\n  online " << j["online_seconds"].get<double>()
-                      << " s (" << j["steps"] << " steps, " << j["rhs_evaluations"] << " flow evaluations), build "
-                      << j["build_seconds"].get<double>() << " s\n";
+                      << " s (" << j["steps"] << " steps, " << j["rhs_evaluations"] << " flow evaluations)\n";
+            }
             return 0;
         };
     });

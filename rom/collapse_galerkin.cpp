@@ -160,39 +160,52 @@ class Model {
 
 }  // namespace
 
-CollapseGalerkin CollapseGalerkin::build(const store::SnapshotFile& f, const CollapseGalerkinOptions& o) {
+CollapseGalerkin CollapseGalerkin::build(const std::vector<const store::SnapshotFile*>& files,
+                                         const CollapseGalerkinOptions& o) {
     const auto t0 = Clock::now();
+    if (files.empty()) throw InputError("FILES", "(none)", "one or more collapse snapshot files");
     if (o.trainEvery < 1) throw InputError("train-every", std::to_string(o.trainEvery), "1 or more");
     if (o.modes < 0) throw InputError("modes", std::to_string(o.modes), "0 (by energy) or more");
+    const store::SnapshotFile& first = *files.front();
+    for (const auto* f : files)
+        if (f->meshFingerprint() != first.meshFingerprint())
+            throw InputError("snapshot file", f->path().string(), "runs on one mesh (the same aspect ratio and cells as " +
+                                                                       first.path().string() + ")");
     CollapseGalerkin r;
     r.options = o;
-    r.shape = CollapseShape::fromSnapshot(f);
-    r.mesh = FvMesh::fromSnapshot(f);
-    r.law = GranularLaw::fromSnapshot(f);
-    const auto t = f.powderTransport();
+    r.shape = CollapseShape::fromSnapshot(first);
+    r.mesh = FvMesh::fromSnapshot(first);
+    r.law = GranularLaw::fromSnapshot(first);
+    const auto t = first.powderTransport();
     if (!t.contains("airRho") || !t.contains("airNu"))
-        throw InputError("snapshot file", f.path().string(),
+        throw InputError("snapshot file", first.path().string(),
                          "snapshots exported with the air's density and viscosity (export them again)");
     r.airRho = t["airRho"].get<double>();
     r.airNu = t["airNu"].get<double>();
-    const auto params = f.params();
-    r.gravity = params.at("gravity_m_s2").get<double>();
+    r.gravity = first.params().at("gravity_m_s2").get<double>();
     r.tStar = std::sqrt(r.shape.height / r.gravity);
     r.walls = collapseWalls(r.mesh);
     const auto& m = r.mesh;
 
-    for (size_t i = 0; i < f.times().size(); i += static_cast<size_t>(o.trainEvery)) r.trainTimes.push_back(i);
-    if (r.trainTimes.size() < 2) throw InputError("snapshot file", f.path().string(), "at least two training times");
+    // Training columns: every k-th stored time of every file.
+    std::vector<std::pair<const store::SnapshotFile*, size_t>> cols;
+    for (const auto* f : files) {
+        r.trainFiles.push_back(f->path().string());
+        for (size_t i = 0; i < f->times().size(); i += static_cast<size_t>(o.trainEvery)) cols.emplace_back(f, i);
+    }
+    r.trainTimes = cols.size();
+    if (cols.size() < 2) throw InputError("snapshot file", first.path().string(), "at least two training times");
+    const auto nCols = static_cast<Eigen::Index>(cols.size());
 
     // The flow's POD in the face product weighted by the mean density of the training times, the
     // product the projection uses (so that the modes rank the powder's motion, not the air's).
     Eigen::VectorXd rhoMean = Eigen::VectorXd::Zero(m.faces());
-    for (const auto i : r.trainTimes) {
-        const Eigen::VectorXd a = clamp01(f.column("alpha", i));
+    for (const auto& [f, i] : cols) {
+        const Eigen::VectorXd a = clamp01(f->column("alpha", i));
         const Eigen::VectorXd rho = (r.airRho + (r.law.rho - r.airRho) * a.array()).matrix();
         rhoMean += interpolate(m, rho, ownerValues(m, rho));
     }
-    rhoMean /= static_cast<double>(r.trainTimes.size());
+    rhoMean /= static_cast<double>(cols.size());
     const Eigen::VectorXd weights = m.magSf.cwiseQuotient(m.deltaCoeffs).cwiseProduct(rhoMean);
     PodOptions po;
     po.maxModes = o.modes;
@@ -201,9 +214,10 @@ CollapseGalerkin CollapseGalerkin::build(const store::SnapshotFile& f, const Col
     r.flow = computePod(
         1,
         [&](size_t) {
-            Eigen::MatrixXd v(m.faces(), static_cast<Eigen::Index>(r.trainTimes.size()));
-            for (size_t k = 0; k < r.trainTimes.size(); ++k)
-                v.col(static_cast<Eigen::Index>(k)) = f.faceColumn("phi", r.trainTimes[k]).cwiseQuotient(m.magSf);
+            Eigen::MatrixXd v(m.faces(), nCols);
+            for (Eigen::Index k = 0; k < nCols; ++k)
+                v.col(k) = cols[static_cast<size_t>(k)].first->faceColumn("phi", cols[static_cast<size_t>(k)].second)
+                               .cwiseQuotient(m.magSf);
             return v;
         },
         weights, po);
@@ -214,7 +228,8 @@ CollapseGalerkin CollapseGalerkin::build(const store::SnapshotFile& f, const Col
     }
 
     if (o.reducedAlpha) {
-        r.alphaLift = f.column("alpha", 0);
+        // alpha = the initial column + modes of what the runs made of it.
+        r.alphaLift = r.shape.initialAlpha(m);
         PodOptions pa;
         pa.maxModes = o.alphaModes;
         pa.energy = o.alphaModes > 0 ? 1.0 : o.alphaEnergy;
@@ -222,9 +237,10 @@ CollapseGalerkin CollapseGalerkin::build(const store::SnapshotFile& f, const Col
         r.alpha = computePod(
             1,
             [&](size_t) {
-                Eigen::MatrixXd x(m.cells, static_cast<Eigen::Index>(r.trainTimes.size()));
-                for (size_t k = 0; k < r.trainTimes.size(); ++k)
-                    x.col(static_cast<Eigen::Index>(k)) = f.column("alpha", r.trainTimes[k]) - r.alphaLift;
+                Eigen::MatrixXd x(m.cells, nCols);
+                for (Eigen::Index k = 0; k < nCols; ++k)
+                    x.col(k) = cols[static_cast<size_t>(k)].first->column("alpha", cols[static_cast<size_t>(k)].second) -
+                               r.alphaLift;
                 return x;
             },
             m.V, pa);
@@ -324,11 +340,17 @@ Eigen::VectorXd perComponent(const Eigen::VectorXd& V) {  // cell volumes repeat
 }
 }  // namespace
 
-nlohmann::json reproduceCollapse(const store::SnapshotFile& f, const CollapseGalerkinOptions& options) {
-    const CollapseGalerkin rom = CollapseGalerkin::build(f, options);
+nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::SnapshotFile& f) {
+    if (f.meshFingerprint() != store::SnapshotFile(built.trainFiles.front()).meshFingerprint())
+        throw InputError("check file", f.path().string(), "a run on the model's mesh");
+    // The target's own law (its mu_s, mu_d, I0 and cap): the model's parameters enter here only.
+    CollapseGalerkin rom = built;
+    rom.law = GranularLaw::fromSnapshot(f);
+    const auto& options = rom.options;
     const auto& m = rom.mesh;
     const auto& times = f.times();
     const Eigen::VectorXd wU = perComponent(m.V);
+    const bool trainedOn = std::find(rom.trainFiles.begin(), rom.trainFiles.end(), f.path().string()) != rom.trainFiles.end();
 
     // The pressure closure on the stored fields: lithostatic against the solver's p, in the powder,
     // and what it does to the mu(I) viscosity there.
@@ -347,8 +369,7 @@ nlohmann::json reproduceCollapse(const store::SnapshotFile& f, const CollapseGal
         nuErr += weightedNorm(nul - nu, w) / weightedNorm(nu, w);
     }
 
-    std::vector<double> outputs(times.begin() + 1, times.end());
-    // Linear in time between stored times.
+    // Linear in time between stored times (the diagnoses).
     const auto storedAt = [&](auto column) {
         return [&f, &times, column](double t) {
             const auto hi = std::min<size_t>(std::upper_bound(times.begin(), times.end(), t) - times.begin(), times.size() - 1);
@@ -362,8 +383,9 @@ nlohmann::json reproduceCollapse(const store::SnapshotFile& f, const CollapseGal
         stored.pressure = storedAt([](const store::SnapshotFile& s, size_t i) { return s.column("p", i); });
     if (options.storedFlux)
         stored.flux = storedAt([](const store::SnapshotFile& s, size_t i) { return s.faceColumn("phi", i); });
+    // From rest at t = 0, the column as the case sets it up: nothing of the run is used.
     const CollapseTrajectory tr =
-        runCollapseGalerkin(rom, f.column("alpha", 0), f.faceColumn("phi", 0), times[0], outputs, stored);
+        runCollapseGalerkin(rom, rom.shape.initialAlpha(m), Eigen::VectorXd::Zero(m.faces()), 0.0, times, stored);
 
     double peakU = 0;
     std::vector<Eigen::VectorXd> Us;
@@ -371,28 +393,27 @@ nlohmann::json reproduceCollapse(const store::SnapshotFile& f, const CollapseGal
         Us.push_back(f.column("U", i));
         peakU = std::max(peakU, weightedNorm(Us.back(), wU));
     }
-    std::vector<bool> trained(times.size(), false);
-    for (auto i : rom.trainTimes) trained[i] = true;
 
     nlohmann::json rows = nlohmann::json::array();
-    double aSum = 0, aMax = 0, uSum = 0, uMax = 0, aHold = 0, uHold = 0;
+    double aSum = 0, aMax = 0, uSum = 0, uMax = 0, aHold = 0, uHold = 0, aProjSum = 0, uProjSum = 0;
     int held = 0;
-    for (size_t k = 0; k < outputs.size(); ++k) {
-        const size_t i = k + 1;
+    for (size_t i = 0; i < times.size(); ++i) {
+        const bool trained = trainedOn && i % static_cast<size_t>(options.trainEvery) == 0;
         const Eigen::VectorXd as = f.column("alpha", i);
-        const Eigen::VectorXd ar = tr.alpha[k];
+        const Eigen::VectorXd& ar = tr.alpha[i];
         const double aErr = weightedNorm(ar - as, m.V) / weightedNorm(as, m.V);
-        const Eigen::VectorXd Ur = rom.cellU * tr.flow[k];
+        const Eigen::VectorXd Ur = rom.cellU * tr.flow[i];
         const double uErr = weightedNorm(Ur - Us[i], wU) / peakU;
         // Lower bounds: the stored fields' own projections on the bases.
         const Eigen::VectorXd phi = f.faceColumn("phi", i);
-        Eigen::VectorXd aProj = rom.flow.project(phi.cwiseQuotient(m.magSf));
+        const Eigen::VectorXd aProj = rom.flow.project(phi.cwiseQuotient(m.magSf));
         const double uProj = weightedNorm(rom.cellU * aProj - Us[i], wU) / peakU;
         double alphaProj = 0;
-        if (rom.alpha) alphaProj = weightedNorm(rom.alphaLift + rom.alpha->reconstruct(rom.alpha->project(as - rom.alphaLift)) - as, m.V) /
-                                   weightedNorm(as, m.V);
+        if (rom.alpha)
+            alphaProj = weightedNorm(rom.alphaLift + rom.alpha->reconstruct(rom.alpha->project(as - rom.alphaLift)) - as, m.V) /
+                        weightedNorm(as, m.V);
         rows.push_back({{"t", times[i]},
-                        {"trained", static_cast<bool>(trained[i])},
+                        {"trained", trained},
                         {"alpha_error", aErr},
                         {"alpha_projection_error", alphaProj},
                         {"u_error", uErr},
@@ -402,13 +423,15 @@ nlohmann::json reproduceCollapse(const store::SnapshotFile& f, const CollapseGal
                         {"height_star", rom.shape.heightStar(m, ar)},
                         {"height_star_full", rom.shape.heightStar(m, as)},
                         {"pressure_closure_error", pErrAt[i]},
-                        {"kinetic_energy_j", tr.kineticEnergy[k]},
-                        {"powder_volume_m3", tr.powderVolume[k]}});
+                        {"kinetic_energy_j", tr.kineticEnergy[i]},
+                        {"powder_volume_m3", tr.powderVolume[i]}});
         aSum += aErr;
         uSum += uErr;
+        aProjSum += alphaProj;
+        uProjSum += uProj;
         aMax = std::max(aMax, aErr);
         uMax = std::max(uMax, uErr);
-        if (!trained[i]) {
+        if (!trained) {
             aHold += aErr;
             uHold += uErr;
             ++held;
@@ -419,21 +442,28 @@ nlohmann::json reproduceCollapse(const store::SnapshotFile& f, const CollapseGal
     const double Lr = last["runout_star"], Lf = last["runout_star_full"], Hr = last["height_star"],
                  Hf = last["height_star_full"];
     return {{"snapshots", f.path().string()},
+            {"trained_on_this_run", trainedOn},
+            {"mu_s", rom.law.law.muS},
+            {"mu_d", rom.law.law.muD},
+            {"i0", rom.law.law.I0},
             {"cells", m.cells},
             {"stored_times", times.size()},
-            {"train_times", rom.trainTimes.size()},
+            {"train_files", rom.trainFiles.size()},
+            {"train_times", rom.trainTimes},
             {"modes", rom.modes()},
             {"flow_energy_kept", rom.flow.keptEnergy()},
             {"alpha", rom.alpha ? "reduced" : "mesh"},
+            {"alpha_modes", rom.alpha ? rom.alpha->modes.cols() : 0},
             {"pressure", options.storedPressure ? "stored (diagnosis)" : "lithostatic"},
             {"flux", options.storedFlux ? "stored (diagnosis)" : "reduced"},
-            {"alpha_modes", rom.alpha ? rom.alpha->modes.cols() : 0},
-            {"pressure_closure_error", pErr / static_cast<double>(times.size())},
-            {"viscosity_closure_error", nuErr / static_cast<double>(times.size())},
+            {"pressure_closure_error", pErr / n},
+            {"viscosity_closure_error", nuErr / n},
             {"alpha_error_mean", aSum / n},
             {"alpha_error_max", aMax},
+            {"alpha_projection_error_mean", aProjSum / n},
             {"u_error_mean", uSum / n},
             {"u_error_max", uMax},
+            {"u_projection_error_mean", uProjSum / n},
             {"alpha_error_held_out_mean", held ? aHold / held : 0.0},
             {"u_error_held_out_mean", held ? uHold / held : 0.0},
             {"runout_star", Lr},

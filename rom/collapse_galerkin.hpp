@@ -79,10 +79,14 @@ struct CollapseGalerkin {
     std::optional<PodBasis> alpha;
     Eigen::VectorXd alphaLift;    // alpha = alphaLift + X b (reduced alpha)
     CollapseGalerkinOptions options;
-    std::vector<size_t> trainTimes;
+    std::vector<std::string> trainFiles;
+    size_t trainTimes = 0;        // snapshots the bases were built from, over all files
     double buildSeconds = 0;
 
-    static CollapseGalerkin build(const store::SnapshotFile& f, const CollapseGalerkinOptions& options);
+    // From the snapshots of one or more collapse runs on one mesh (other mu(I) coefficients: a
+    // parametric model). The law is the first file's until a check replaces it.
+    static CollapseGalerkin build(const std::vector<const store::SnapshotFile*>& files,
+                                  const CollapseGalerkinOptions& options);
     int modes() const { return static_cast<int>(flow.modes.cols()); }
 };
 
@@ -104,9 +108,11 @@ CollapseTrajectory runCollapseGalerkin(const CollapseGalerkin& rom, const Eigen:
                                        const Eigen::VectorXd& phi0, double t0, const std::vector<double>& outputs,
                                        const StoredFields& stored = {});
 
-// Builds the model on a snapshot file's training times, runs it from the first stored time through
-// all of them, and compares with every stored field: alpha and U relative errors beside their
-// projection errors, the runout and height, the pressure closure's error, and the costs.
-nlohmann::json reproduceCollapse(const store::SnapshotFile& f, const CollapseGalerkinOptions& options);
+// Runs the model from rest at t = 0 (the initial column, no flow) with the law of a run's snapshot
+// file (its mu_s, mu_d, I0, cap) through the run's stored times, and compares with every stored
+// field: alpha and U relative errors beside their projection errors, the runout and height, the
+// pressure closure's error, and the costs. The run may be one the model was trained on
+// (reproduction) or not (prediction).
+nlohmann::json checkCollapse(const CollapseGalerkin& rom, const store::SnapshotFile& run);
 
 }  // namespace mixload::rom

@@ -57,6 +57,17 @@ double CollapseShape::heightStar(const FvMesh& m, const Eigen::VectorXd& alpha) 
     return profile(m, alpha).maxCoeff() / height;
 }
 
+Eigen::VectorXd CollapseShape::initialAlpha(const FvMesh& m) const {
+    // The grid's cells are squares of side binWidth (fullcfd/cases/collapse2d: columnOverlap).
+    const auto overlap = [&](double c, double end) {
+        const double lo = c - 0.5 * binWidth, hi = c + 0.5 * binWidth;
+        return std::max(0.0, std::min(hi, end) - std::max(lo, 0.0)) / binWidth;
+    };
+    Eigen::VectorXd a(m.cells);
+    for (Eigen::Index c = 0; c < m.cells; ++c) a[c] = overlap(m.C(c, 0), length) * overlap(m.C(c, 1), height);
+    return a;
+}
+
 ColumnPressure::ColumnPressure(const FvMesh& m, double gravity) : g_(gravity) {
     // Columns: cells whose centres share x (to a thousandth of the smallest cell) and z.
     double minSize = 1e300;

@@ -22,6 +22,8 @@ struct CollapseShape {
     double front(const Eigen::VectorXd& profile) const;
     double runoutStar(const FvMesh& m, const Eigen::VectorXd& alpha) const;  // (L - Li) / Li
     double heightStar(const FvMesh& m, const Eigen::VectorXd& alpha) const;  // max h / Hi
+    // The column at t = 0 as the case sets it up: each cell's overlap with [0, Li] x [0, Hi].
+    Eigen::VectorXd initialAlpha(const FvMesh& m) const;
 };
 
 // The lithostatic pressure: in every vertical column of cells, the weight of what lies above each
