@@ -211,6 +211,7 @@ void addRom(CLI::App& app, Action& action) {
 
     struct GalerkinCmd {
         std::vector<std::string> files, check;
+        std::string pressure = "lithostatic";
         rom::CollapseGalerkinOptions opt;
         bool json = false;
     };
@@ -234,6 +235,8 @@ void addRom(CLI::App& app, Action& action) {
                   "Restart CVODE after every alpha step (the strict splitting; slower)");
     gal->add_option("--mass-tolerance", g->opt.massTolerance,
                     "Stop with an error when the powder volume drifts by more than this share")->capture_default_str();
+    gal->add_option("--pressure", g->pressure, "Pressure for the mu(I) law: recovered (from the reduced momentum) | lithostatic")
+        ->capture_default_str();
     gal->add_flag("--stored-pressure", g->opt.storedPressure,
                   "Diagnosis: the mu(I) law reads the run's stored pressure instead of the lithostatic closure");
     gal->add_flag("--stored-flux", g->opt.storedFlux,
@@ -244,6 +247,9 @@ void addRom(CLI::App& app, Action& action) {
             if (!(g->opt.courant > 0 && g->opt.courant <= 0.5))
                 throw InputError("courant", std::to_string(g->opt.courant), "(0, 0.5]: the van Leer transport's bound");
             if (!(g->opt.energy > 0 && g->opt.energy <= 1)) throw InputError("energy", std::to_string(g->opt.energy), "(0, 1]");
+            if (g->pressure != "recovered" && g->pressure != "lithostatic")
+                throw InputError("pressure", g->pressure, "recovered or lithostatic");
+            g->opt.pressure = g->pressure == "recovered" ? rom::PressureClosure::recovered : rom::PressureClosure::lithostatic;
             if (!(g->opt.cAlpha >= 0 && g->opt.cAlpha <= 4)) throw InputError("c-alpha", std::to_string(g->opt.cAlpha), "[0, 4]");
             if (!(g->opt.massTolerance > 0 && g->opt.massTolerance <= 1))
                 throw InputError("mass-tolerance", std::to_string(g->opt.massTolerance), "(0, 1]");
@@ -266,8 +272,9 @@ void addRom(CLI::App& app, Action& action) {
             for (const auto& j : checks) {
             std::cout << (j["trained_on_this_run"].get<bool>() ? "reproducing " : "predicting ") << j["snapshots"].get<std::string>()
                       << " (mu_s " << j["mu_s"].get<double>() << ", mu_d " << j["mu_d"].get<double>() << ", I0 "
-                      << j["i0"].get<double>() << ")\n  pressure closure (lithostatic) error " << j["pressure_closure_error"].get<double>()
-                      << ", viscosity " << j["viscosity_closure_error"].get<double>() << "\n  alpha rel. L2 error mean "
+                      << j["i0"].get<double>() << ")\n  pressure (" << j["pressure"].get<std::string>() << ") error in the powder " << j["pressure_error_mean"].get<double>()
+                      << " (lithostatic on the stored fields: " << j["lithostatic_pressure_error"].get<double>()
+                      << ")\n  alpha rel. L2 error mean "
                       << j["alpha_error_mean"].get<double>() << " max " << j["alpha_error_max"].get<double>()
                       << "; U error (of peak |U|) mean " << j["u_error_mean"].get<double>() << " max "
                       << j["u_error_max"].get<double>() << "\n  L*f " << j["runout_star"].get<double>() << " (full "

@@ -11,6 +11,8 @@
 #include "rom/cvode_integrator.hpp"
 #include "rom/fv_operators.hpp"
 
+#include <Eigen/Sparse>
+
 namespace mixload::rom {
 
 namespace {
@@ -44,7 +46,7 @@ std::vector<CollapseGalerkin::Wall> collapseWalls(const FvMesh& m) {
 // What the flow equations hold fixed over one step: the densities, viscosity mixture inputs, the
 // lithostatic pressure, the reduced mass matrix and gravity term, all from alpha.
 struct Frozen {
-    Eigen::VectorXd alpha, rhoC, rhoF, p, gravityTerm;
+    Eigen::VectorXd alpha, rhoC, rhoF, p, gravityFaces, gravityTerm;
     Eigen::MatrixXd mass;
     Eigen::LLT<Eigen::MatrixXd> massLlt;
 };
@@ -53,7 +55,28 @@ class Model {
   public:
     explicit Model(const CollapseGalerkin& r)
         : r_(r), m_(r.mesh), pressure_(r.mesh, r.gravity), Vf_(m_.magSf.cwiseQuotient(m_.deltaCoeffs)),
-          ghf_(-r.gravity * m_.Cf.col(1)) {}
+          ghf_(-r.gravity * m_.Cf.col(1)) {
+        // The pressure recovery's normal equations: the face-difference operator weighted by
+        // |Sf| deltaCoeff (the FV Laplacian), p_rgh = 0 on the open faces; constant, factored once.
+        std::vector<Eigen::Triplet<double>> t;
+        for (Eigen::Index f = 0; f < m_.faces(); ++f) {
+            const double w = m_.magSf[f] * m_.deltaCoeffs[f];
+            const auto o = m_.owner[f];
+            if (f < m_.internalFaces) {
+                const auto n = m_.neighbour[f];
+                t.emplace_back(o, o, w);
+                t.emplace_back(n, n, w);
+                t.emplace_back(o, n, -w);
+                t.emplace_back(n, o, -w);
+            } else if (r_.walls[static_cast<size_t>(f - m_.internalFaces)] == CollapseGalerkin::Wall::open) {
+                t.emplace_back(o, o, w);
+            }
+        }
+        Eigen::SparseMatrix<double> L(m_.cells, m_.cells);
+        L.setFromTriplets(t.begin(), t.end());
+        poisson_.compute(L);
+        if (poisson_.info() != Eigen::Success) throw std::runtime_error("pressure recovery: the Laplacian is singular");
+    }
 
     Frozen freeze(const Eigen::VectorXd& alphaIn) const {
         Frozen z;
@@ -65,11 +88,32 @@ class Model {
         const Eigen::MatrixXd& Psi = r_.flow.modes;
         z.mass = Psi.transpose() * (Vf_.cwiseProduct(z.rhoF).asDiagonal() * Psi);
         z.massLlt.compute(z.mass);
-        Eigen::VectorXd g = Eigen::VectorXd::Zero(m_.faces());
+        z.gravityFaces = Eigen::VectorXd::Zero(m_.faces());
         for (Eigen::Index i = 0; i < m_.internalFaces; ++i)
-            g[i] = -m_.magSf[i] * ghf_[i] * (z.rhoC[m_.neighbour[i]] - z.rhoC[m_.owner[i]]);
-        z.gravityTerm = Psi.transpose() * g;
+            z.gravityFaces[i] = -m_.magSf[i] * ghf_[i] * (z.rhoC[m_.neighbour[i]] - z.rhoC[m_.owner[i]]);
+        z.gravityTerm = Psi.transpose() * z.gravityFaces;
         return z;
+    }
+
+    // The total pressure the reduced flow implies: per face, the momentum the projection left
+    // unbalanced, rho_f V_f dv_f/dt - V_f F_f - gravity_f, is the pressure's -|Sf| (p_N - p_O);
+    // its gradient part, found by least squares (a Poisson equation), is p_rgh, and p = p_rgh + rho gh.
+    Eigen::VectorXd recoverPressure(const Frozen& z, const Eigen::VectorXd& a) const {
+        const Eigen::VectorXd force = faceForce(z, a);
+        const Eigen::VectorXd dadt = z.massLlt.solve(r_.flow.modes.transpose() * force + z.gravityTerm);
+        const Eigen::VectorXd residual =
+            Vf_.cwiseProduct(z.rhoF).cwiseProduct(r_.flow.modes * dadt) - force - z.gravityFaces;
+        Eigen::VectorXd b = Eigen::VectorXd::Zero(m_.cells);
+        for (Eigen::Index f = 0; f < m_.faces(); ++f) {
+            const bool internal = f < m_.internalFaces;
+            if (!internal && r_.walls[static_cast<size_t>(f - m_.internalFaces)] != CollapseGalerkin::Wall::open) continue;
+            const double jump = -residual[f] / m_.magSf[f];  // p_N - p_O (p_b - p_O on an open face, p_b = 0)
+            const double w = m_.magSf[f] * m_.deltaCoeffs[f];
+            b[m_.owner[f]] -= w * jump;
+            if (internal) b[m_.neighbour[f]] += w * jump;
+        }
+        const Eigen::VectorXd prgh = poisson_.solve(b);
+        return prgh + z.rhoC.cwiseProduct(-r_.gravity * m_.C.col(1));
     }
 
     Vectors cellVelocity(const Eigen::VectorXd& a) const { return asVectors(r_.cellU * a); }
@@ -94,6 +138,11 @@ class Model {
 
     // M da/dt = the projected convection, viscous and gravity terms.
     Eigen::VectorXd rate(const Frozen& z, const Eigen::VectorXd& a) const {
+        return z.massLlt.solve(r_.flow.modes.transpose() * faceForce(z, a) + z.gravityTerm);
+    }
+
+    // Per face: V_f n_f . interp(-rho (U.grad)U + div(mu (grad U + dev2 grad U^T))).
+    Eigen::VectorXd faceForce(const Frozen& z, const Eigen::VectorXd& a) const {
         const Eigen::VectorXd flux = m_.magSf.cwiseProduct(r_.flow.modes * a);
         const Vectors U = cellVelocity(a);
         const Vectors Ub = boundaryVelocity(U);
@@ -133,7 +182,7 @@ class Model {
             if (f < m_.internalFaces) af = m_.weights[f] * af + (1 - m_.weights[f]) * A.row(m_.neighbour[f]);
             faceForce[f] = Vf_[f] * af.dot(m_.Sf.row(f)) / m_.magSf[f];
         }
-        return z.massLlt.solve(r_.flow.modes.transpose() * faceForce + z.gravityTerm);
+        return faceForce;
     }
 
     Eigen::VectorXd flux(const Eigen::VectorXd& a) const { return m_.magSf.cwiseProduct(r_.flow.modes * a); }
@@ -156,6 +205,7 @@ class Model {
     const FvMesh& m_;
     ColumnPressure pressure_;
     Eigen::VectorXd Vf_, ghf_;
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> poisson_;
 };
 
 }  // namespace
@@ -292,6 +342,7 @@ CollapseTrajectory runCollapseGalerkin(const CollapseGalerkin& rom, const Eigen:
             }
             z = model.freeze(alpha);
             if (stored.pressure) z.p = stored.pressure(t + dt);
+            else if (o.pressure == PressureClosure::recovered) z.p = model.recoverPressure(z, a);
             try {
                 if (stored.flux) a = model.project(z, stored.flux(t + dt));
                 else ode.advance(t, t + dt, a, o.restartEachStep);
@@ -322,11 +373,13 @@ CollapseTrajectory runCollapseGalerkin(const CollapseGalerkin& rom, const Eigen:
         out.times.push_back(tOut);
         out.alpha.push_back(alpha);
         out.flow.push_back(a);
+        out.pressure.push_back(z.p);
         out.kineticEnergy.push_back(0.5 * a.dot(z.mass * a));
         out.powderVolume.push_back(alpha.dot(m.V));
     }
     out.odeSteps = ode.steps();
     out.rhsEvaluations = ode.rhsEvaluations();
+    out.jacobianEvaluations = ode.jacobianEvaluations();
     out.wallSeconds = since(wall0);
     return out;
 }
@@ -355,8 +408,8 @@ nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::Snapsho
     // The pressure closure on the stored fields: lithostatic against the solver's p, in the powder,
     // and what it does to the mu(I) viscosity there.
     const ColumnPressure lith(m, rom.gravity);
-    double pErr = 0, nuErr = 0;
-    std::vector<double> pErrAt(times.size());
+    double pErr = 0, nuErr = 0, pModel = 0;
+    std::vector<double> pErrAt(times.size()), pModelAt(times.size());
     for (size_t i = 0; i < times.size(); ++i) {
         const Eigen::VectorXd al = clamp01(f.column("alpha", i));
         const Eigen::VectorXd rho = (rom.airRho + (rom.law.rho - rom.airRho) * al.array()).matrix();
@@ -404,6 +457,11 @@ nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::Snapsho
         const double aErr = weightedNorm(ar - as, m.V) / weightedNorm(as, m.V);
         const Eigen::VectorXd Ur = rom.cellU * tr.flow[i];
         const double uErr = weightedNorm(Ur - Us[i], wU) / peakU;
+        {
+            const Eigen::VectorXd w = clamp01(as).cwiseProduct(m.V), ps = f.column("p", i);
+            pModelAt[i] = weightedNorm(tr.pressure[i] - ps, w) / weightedNorm(ps, w);
+            pModel += pModelAt[i];
+        }
         // Lower bounds: the stored fields' own projections on the bases.
         const Eigen::VectorXd phi = f.faceColumn("phi", i);
         const Eigen::VectorXd aProj = rom.flow.project(phi.cwiseQuotient(m.magSf));
@@ -422,7 +480,8 @@ nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::Snapsho
                         {"runout_star_full", rom.shape.runoutStar(m, as)},
                         {"height_star", rom.shape.heightStar(m, ar)},
                         {"height_star_full", rom.shape.heightStar(m, as)},
-                        {"pressure_closure_error", pErrAt[i]},
+                        {"pressure_error", pModelAt[i]},
+                        {"lithostatic_pressure_error", pErrAt[i]},
                         {"kinetic_energy_j", tr.kineticEnergy[i]},
                         {"powder_volume_m3", tr.powderVolume[i]}});
         aSum += aErr;
@@ -454,10 +513,12 @@ nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::Snapsho
             {"flow_energy_kept", rom.flow.keptEnergy()},
             {"alpha", rom.alpha ? "reduced" : "mesh"},
             {"alpha_modes", rom.alpha ? rom.alpha->modes.cols() : 0},
-            {"pressure", options.storedPressure ? "stored (diagnosis)" : "lithostatic"},
+            {"pressure", options.storedPressure ? "stored (diagnosis)"
+                         : options.pressure == PressureClosure::recovered ? "recovered" : "lithostatic"},
             {"flux", options.storedFlux ? "stored (diagnosis)" : "reduced"},
-            {"pressure_closure_error", pErr / n},
-            {"viscosity_closure_error", nuErr / n},
+            {"pressure_error_mean", pModel / n},
+            {"lithostatic_pressure_error", pErr / n},
+            {"lithostatic_viscosity_error", nuErr / n},
             {"alpha_error_mean", aSum / n},
             {"alpha_error_max", aMax},
             {"alpha_projection_error_mean", aProjSum / n},
@@ -476,6 +537,7 @@ nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::Snapsho
             {"steps", tr.steps},
             {"ode_steps", tr.odeSteps},
             {"rhs_evaluations", tr.rhsEvaluations},
+            {"jacobian_evaluations", tr.jacobianEvaluations},
             {"build_seconds", rom.buildSeconds},
             {"online_seconds", tr.wallSeconds},
             {"times", rows}};

@@ -23,7 +23,7 @@ struct CvodeIntegrator::State {
     Eigen::Index n = 0;
     bool started = false;
     // CVodeReInit resets CVODE's counters: the totals of earlier restarts, and the current one's.
-    long steps = 0, rhsEvals = 0, stepsSinceRestart = 0, rhsSinceRestart = 0;
+    long steps = 0, rhsEvals = 0, jacs = 0, stepsSinceRestart = 0, rhsSinceRestart = 0, jacsSinceRestart = 0;
     Eigen::VectorXd yIn, dyOut;
     std::exception_ptr error;
 
@@ -86,7 +86,8 @@ void CvodeIntegrator::advance(double t, double tOut, Eigen::VectorXd& y, bool re
     if (restart || !s_->started) {
         s_->steps += s_->stepsSinceRestart;
         s_->rhsEvals += s_->rhsSinceRestart;
-        s_->stepsSinceRestart = s_->rhsSinceRestart = 0;
+        s_->jacs += s_->jacsSinceRestart;
+        s_->stepsSinceRestart = s_->rhsSinceRestart = s_->jacsSinceRestart = 0;
         Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(s_->y), s_->n) = y;
         check(CVodeReInit(s_->mem, t, s_->y), "CVodeReInit");
         s_->started = true;
@@ -103,11 +104,15 @@ void CvodeIntegrator::advance(double t, double tOut, Eigen::VectorXd& y, bool re
     CVodeGetNumSteps(s_->mem, &nst);
     CVodeGetNumRhsEvals(s_->mem, &nfe);
     CVodeGetNumLinRhsEvals(s_->mem, &nfeLs);
+    long nje = 0;
+    CVodeGetNumJacEvals(s_->mem, &nje);
+    s_->jacsSinceRestart = nje;
     s_->stepsSinceRestart = nst;
     s_->rhsSinceRestart = nfe + nfeLs;
 }
 
 long CvodeIntegrator::steps() const { return s_->steps + s_->stepsSinceRestart; }
 long CvodeIntegrator::rhsEvaluations() const { return s_->rhsEvals + s_->rhsSinceRestart; }
+long CvodeIntegrator::jacobianEvaluations() const { return s_->jacs + s_->jacsSinceRestart; }
 
 }  // namespace mixload::rom

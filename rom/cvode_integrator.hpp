@@ -30,7 +30,8 @@ class CvodeIntegrator {
     void advance(double t, double tOut, Eigen::VectorXd& y, bool restart = true);
 
     long steps() const;        // internal steps taken, summed over every advance
-    long rhsEvaluations() const;
+    long rhsEvaluations() const;       // including the difference quotients of the Jacobian
+    long jacobianEvaluations() const;
 
   private:
     struct State;
