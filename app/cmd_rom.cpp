@@ -97,6 +97,35 @@ std::string plotDeim(const nlohmann::json& j, const fs::path& png) {
     return runGnuplot(dir, stem + ".gp", gp.str());
 }
 
+// L*(t) and H*(t) of the model against the full run, for each checked run.
+std::string plotGalerkin(const nlohmann::json& checks, double tStar, const fs::path& png) {
+    const fs::path dir = fs::absolute(png).parent_path();
+    const std::string stem = png.stem().string();
+    std::ostringstream plotL, plotH;
+    for (size_t k = 0; k < checks.size(); ++k) {
+        const auto& j = checks[k];
+        std::ostringstream dat;
+        for (const auto& r : j["times"])
+            dat << r["t"].get<double>() / tStar << ' ' << r["runout_star"] << ' ' << r["runout_star_full"] << ' '
+                << r["height_star"] << ' ' << r["height_star_full"] << '\n';
+        const std::string name = stem + "." + std::to_string(k) + ".dat";
+        writeFileAtomic(dir / name, dat.str());
+        std::ostringstream label;
+        label << std::setprecision(3) << "mu_s " << j["mu_s"].get<double>() << ", I0 " << j["i0"].get<double>()
+              << (j["trained_on_this_run"].get<bool>() ? " (trained)" : " (held out)");
+        const std::string sep = k ? ", " : "";
+        plotL << sep << "'" << name << "' u 1:3 w l lw 2 lc " << k + 1 << " t 'full, " << label.str() << "', '' u 1:2 w l dt 2 lw 2 lc "
+              << k + 1 << " t 'ROM'";
+        plotH << sep << "'" << name << "' u 1:5 w l lw 2 lc " << k + 1 << " notitle, '' u 1:4 w l dt 2 lw 2 lc " << k + 1 << " notitle";
+    }
+    std::ostringstream gp;
+    gp << "set terminal pngcairo size 1100,480\nset output '" << png.filename().string() << "'\nset grid\n"
+       << "set multiplot layout 1,2 title 'POD-Galerkin collapse (dashed) against the full run (solid)'\n"
+       << "set xlabel 't / t*'\nset ylabel 'L* = (L - Li) / Li'\nset key bottom right font ',8'\nplot " << plotL.str()
+       << "\nset ylabel 'H* = H / Hi'\nplot " << plotH.str() << "\nunset multiplot\n";
+    return runGnuplot(dir, stem + ".gp", gp.str());
+}
+
 }  // namespace
 
 void addRom(CLI::App& app, Action& action) {
@@ -211,7 +240,7 @@ void addRom(CLI::App& app, Action& action) {
 
     struct GalerkinCmd {
         std::vector<std::string> files, check;
-        std::string pressure = "lithostatic";
+        std::string pressure = "lithostatic", plot;
         rom::CollapseGalerkinOptions opt;
         bool json = false;
     };
@@ -241,6 +270,7 @@ void addRom(CLI::App& app, Action& action) {
                   "Diagnosis: the mu(I) law reads the run's stored pressure instead of the lithostatic closure");
     gal->add_flag("--stored-flux", g->opt.storedFlux,
                   "Diagnosis: alpha is carried by the run's stored flux (no reduced flow): the transport's own error");
+    gal->add_option("--plot", g->plot, "Also draw L*(t) and H*(t) of the model against each checked run (PNG)");
     gal->add_flag("--json", g->json, "Print JSON (with the per-time errors)");
     gal->callback([&action, g] {
         action = [g] {
@@ -260,6 +290,10 @@ void addRom(CLI::App& app, Action& action) {
             const auto model = rom::CollapseGalerkin::build(ptrs, g->opt);
             nlohmann::json checks = nlohmann::json::array();
             for (const auto& c : g->check.empty() ? g->files : g->check) checks.push_back(rom::checkCollapse(model, store::SnapshotFile(c)));
+            std::string warn;
+            if (!g->plot.empty()) warn = plotGalerkin(checks, model.tStar, g->plot);
+            if (!warn.empty())
+                for (auto& c : checks) c["warning"] = warn;
             if (g->json) {
                 std::cout << (checks.size() == 1 ? checks[0] : checks).dump(2) << '\n';
                 return 0;
@@ -283,6 +317,7 @@ void addRom(CLI::App& app, Action& action) {
                       << 100 * j["height_error"].get<double>() << "%)\n  online " << j["online_seconds"].get<double>()
                       << " s (" << j["steps"] << " steps, " << j["rhs_evaluations"] << " flow evaluations)\n";
             }
+            if (!g->plot.empty()) std::cout << (warn.empty() ? "plot: " + g->plot : "warning: " + warn) << '\n';
             return 0;
         };
     });
