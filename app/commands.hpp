@@ -13,6 +13,7 @@ void addInfo(CLI::App& app, Action& action);
 void addCollapse(CLI::App& app, Action& action);
 void addBench(CLI::App& app, Action& action);
 void addBenchPredict(CLI::App* bench, Action& action);
+void addBenchRom(CLI::App* bench, Action& action);
 void addStudy(CLI::App& app, Action& action);
 void addCampaign(CLI::App& app, Action& action);
 void addCalibrate(CLI::App& app, Action& action);

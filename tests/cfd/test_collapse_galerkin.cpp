@@ -154,3 +154,28 @@ TEST(CollapseGalerkin, RecoveredPressureIsCloserThanTheLithostatic) {
     EXPECT_LT(j["pressure_error_mean"].get<double>(), 0.5 * j["lithostatic_pressure_error"].get<double>());
     EXPECT_LT(std::abs(j["runout_error"].get<double>()), 0.10);
 }
+
+TEST(CollapseGalerkin, BenchmarkComparesTheMethodsOnHeldOutRuns) {
+    const fs::path out = scratchDir("bench-rom");
+    const auto r = runMixload({"bench", "rom", "--train", "0.8:1.1:0.35", "--train", "1.3:1.8:0.25", "--train", "1.0:1.6:0.22",
+                               "--held-out", "1.0:1.4:0.3", "--modes", "10", "--out", out.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["rows"].size(), 1u);
+    const auto& row = j["rows"][0];
+    std::cout << "bench rom: full " << row["full"]["seconds"] << " s, Galerkin " << row["galerkin"]["seconds"] << " s (L*f "
+              << row["galerkin"]["runout_error"] << "), kriging " << row["kriging"]["seconds"] << " s (L*f "
+              << row["kriging"]["runout_error"] << ")\n";
+    // The held-out run is a real full run, and each method's answer is measured against it.
+    EXPECT_GT(row["full"]["seconds"].get<double>(), 0.5);
+    EXPECT_LT(std::abs(row["galerkin"]["runout_error"].get<double>()), 0.10);
+    EXPECT_TRUE(std::isfinite(row["kriging"]["runout_error"].get<double>()));
+    EXPECT_LT(row["kriging"]["seconds"].get<double>(), 1e-3);
+    EXPECT_GT(j["offline"]["full_runs_seconds"].get<double>(), 0.0);
+    EXPECT_TRUE(fs::exists(out / "table.md"));
+    EXPECT_TRUE(fs::exists(out / "table.csv"));
+    // A bad point is refused before any run.
+    const auto bad = runMixload({"bench", "rom", "--held-out", "1.0:1.4", "--out", (out / "bad").string()});
+    EXPECT_EQ(bad.rc, 2);
+    EXPECT_NE(bad.err.find("held-out"), std::string::npos) << bad.err;
+}

@@ -1,0 +1,224 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "bench/rom_bench.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "common/atomic_file.hpp"
+#include "common/gnuplot.hpp"
+#include "common/input_error.hpp"
+#include "kriging/kriging.hpp"
+#include "post/snapshots.hpp"
+#include "run/collapse_job.hpp"
+#include "store/snapshot_file.hpp"
+
+namespace mixload::experiments {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+struct FullRun {
+    CollapsePoint point;
+    nlohmann::json result;
+    fs::path snapshots;
+    double exportSeconds = 0;
+};
+
+// A full run with the writes a reduced model needs, and its float64 snapshots with the flux.
+FullRun fullRun(const RomBench& b, const CollapsePoint& p, const std::string& name) {
+    scene::CollapseOverrides o = b.base;
+    o.muS = p.muS;
+    o.muD = p.muD;
+    o.I0 = p.i0;
+    o.writesPerTstar = 20;
+    run::CollapseJob job;
+    job.scene = o.scene();
+    job.out = b.out / "runs" / name;
+    FullRun r{p, run::runCollapse(job), job.out / "snapshots.h5", 0};
+    if (!fs::exists(r.snapshots)) {
+        const auto t0 = Clock::now();
+        post::SnapshotExport e;
+        e.runDir = job.out;
+        e.output = r.snapshots;
+        e.fields = {"alpha", "U", "p", "phi"};
+        e.float64 = true;
+        post::exportSnapshots(e);
+        r.exportSeconds = since(t0);
+    }
+    return r;
+}
+
+std::string label(const CollapsePoint& p) {
+    std::ostringstream os;
+    os << std::setprecision(4) << "(" << p.muS << ", " << p.muD << ", " << p.i0 << ")";
+    return os.str();
+}
+
+}  // namespace
+
+nlohmann::json runRomBench(const RomBench& b) {
+    if (b.train.size() < 2) throw InputError("train", std::to_string(b.train.size()) + " points", "two or more training points");
+    if (b.heldOut.empty()) throw InputError("held-out", "none", "one or more held-out points");
+    fs::create_directories(b.out);
+    const auto say = [&](const std::string& s) {
+        if (b.progress) std::cerr << "bench rom: " << s << '\n';
+    };
+
+    // Full runs: training (offline) and held out (the reference and the full model's own cost).
+    std::vector<FullRun> train, held;
+    double offlineFull = 0, offlineExport = 0;
+    for (size_t i = 0; i < b.train.size(); ++i) {
+        say("training run " + std::to_string(i + 1) + " of " + std::to_string(b.train.size()) + " " + label(b.train[i]));
+        train.push_back(fullRun(b, b.train[i], "train-" + std::to_string(i)));
+        offlineFull += train.back().result["wall_seconds"].get<double>();
+        offlineExport += train.back().exportSeconds;
+    }
+    for (size_t i = 0; i < b.heldOut.size(); ++i) {
+        say("held-out run " + std::to_string(i + 1) + " of " + std::to_string(b.heldOut.size()) + " " + label(b.heldOut[i]));
+        held.push_back(fullRun(b, b.heldOut[i], "held-" + std::to_string(i)));
+    }
+
+    // The Galerkin model.
+    say("building the POD-Galerkin model");
+    std::vector<store::SnapshotFile> files;
+    for (const auto& r : train) files.emplace_back(r.snapshots);
+    std::vector<const store::SnapshotFile*> ptrs;
+    for (const auto& f : files) ptrs.push_back(&f);
+    const auto model = rom::CollapseGalerkin::build(ptrs, b.options);
+
+    // Kriging on L*f and H*f over (mu_s, mu_d, I0), inputs scaled to the training box.
+    const auto nT = static_cast<Eigen::Index>(train.size());
+    Eigen::MatrixXd X(nT, 3);
+    Eigen::VectorXd yL(nT), yH(nT);
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = Eigen::Vector3d::Constant(-1e300);
+    const auto raw = [](const CollapsePoint& p) { return Eigen::Vector3d(p.muS, p.muD, p.i0); };
+    for (const auto& r : train) {
+        lo = lo.cwiseMin(raw(r.point));
+        hi = hi.cwiseMax(raw(r.point));
+    }
+    const auto scaled = [&](const CollapsePoint& p) {
+        return Eigen::Vector3d((raw(p) - lo).cwiseQuotient((hi - lo).cwiseMax(1e-12)));
+    };
+    for (Eigen::Index i = 0; i < nT; ++i) {
+        X.row(i) = scaled(train[static_cast<size_t>(i)].point).transpose();
+        yL[i] = train[static_cast<size_t>(i)].result["runout_star"].get<double>();
+        yH[i] = train[static_cast<size_t>(i)].result["height_star"].get<double>();
+    }
+    auto t0 = Clock::now();
+    surrogates::KrigingOptions ko;
+    const auto kL = surrogates::Kriging::fit(X, yL, ko), kH = surrogates::Kriging::fit(X, yH, ko);
+    const double krigingFit = since(t0);
+
+    nlohmann::json rows = nlohmann::json::array();
+    double fullMean = 0, romMean = 0, krigMean = 0;
+    for (const auto& r : held) {
+        say("predicting " + label(r.point));
+        const store::SnapshotFile f(r.snapshots);
+        const auto c = rom::checkCollapse(model, f);
+        auto ws = kL.makeWorkspace();
+        const Eigen::Vector3d x = scaled(r.point);
+        // Many calls: one is far below the clock's resolution.
+        t0 = Clock::now();
+        double L = 0, H = 0;
+        const int reps = 10000;
+        for (int k = 0; k < reps; ++k) {
+            L = kL.predictMean(x.data(), ws);
+            H = kH.predictMean(x.data(), ws);
+        }
+        const double krigSeconds = since(t0) / reps;
+        const double Lf = r.result["runout_star"], Hf = r.result["height_star"];
+        const double full = r.result["wall_seconds"];
+        fullMean += full / static_cast<double>(held.size());
+        romMean += c["online_seconds"].get<double>() / static_cast<double>(held.size());
+        krigMean += krigSeconds / static_cast<double>(held.size());
+        rows.push_back({{"mu_s", r.point.muS},
+                        {"mu_d", r.point.muD},
+                        {"i0", r.point.i0},
+                        {"full", {{"seconds", full}, {"runout_star", Lf}, {"height_star", Hf}}},
+                        {"galerkin",
+                         {{"seconds", c["online_seconds"]},
+                          {"runout_star", c["runout_star"]},
+                          {"height_star", c["height_star"]},
+                          {"runout_error", (c["runout_star"].get<double>() - Lf) / Lf},
+                          {"height_error", (c["height_star"].get<double>() - Hf) / Hf},
+                          {"alpha_error", c["alpha_error_mean"]},
+                          {"u_error", c["u_error_mean"]},
+                          {"u_projection_error", c["u_projection_error_mean"]}}},
+                        {"kriging",
+                         {{"seconds", krigSeconds},
+                          {"runout_star", L},
+                          {"height_star", H},
+                          {"runout_error", (L - Lf) / Lf},
+                          {"height_error", (H - Hf) / Hf}}}});
+    }
+    const double romOffline = offlineFull + offlineExport + model.buildSeconds;
+    const double krigOffline = offlineFull + krigingFit;
+    const auto breakEven = [&](double offline, double online) {
+        return fullMean > online ? offline / (fullMean - online) : std::numeric_limits<double>::infinity();
+    };
+    nlohmann::json out{{"cells", model.mesh.cells},
+                       {"modes", model.modes()},
+                       {"alpha", model.alpha ? "reduced" : "mesh"},
+                       {"pressure", b.options.pressure == rom::PressureClosure::recovered ? "recovered" : "lithostatic"},
+                       {"train_runs", train.size()},
+                       {"held_out_runs", held.size()},
+                       {"offline",
+                        {{"full_runs_seconds", offlineFull},
+                         {"export_seconds", offlineExport},
+                         {"galerkin_build_seconds", model.buildSeconds},
+                         {"kriging_fit_seconds", krigingFit}}},
+                       {"mean_seconds", {{"full", fullMean}, {"galerkin", romMean}, {"kriging", krigMean}}},
+                       {"speedup", {{"galerkin", fullMean / romMean}, {"kriging", fullMean / krigMean}}},
+                       {"break_even_answers", {{"galerkin", breakEven(romOffline, romMean)}, {"kriging", breakEven(krigOffline, krigMean)}}},
+                       {"rows", rows}};
+
+    // Table and plot: error against online time per held-out run and method.
+    std::ostringstream md, csv, dat;
+    md << "| held-out (mu_s, mu_d, I0) | full L*f, H*f (s) | Galerkin L*f, H*f error (s) | kriging L*f, H*f error (s) |\n|---|---|---|---|\n";
+    csv << "mu_s,mu_d,i0,full_s,runout_full,height_full,galerkin_s,galerkin_runout_error,galerkin_height_error,galerkin_alpha_error,kriging_s,kriging_runout_error,kriging_height_error\n";
+    md << std::setprecision(4);
+    csv << std::setprecision(8);
+    for (const auto& r : rows) {
+        const auto& g = r["galerkin"];
+        const auto& k = r["kriging"];
+        md << "| (" << r["mu_s"].get<double>() << ", " << r["mu_d"].get<double>() << ", " << r["i0"].get<double>() << ") | "
+           << r["full"]["runout_star"].get<double>() << ", " << r["full"]["height_star"].get<double>() << " ("
+           << r["full"]["seconds"].get<double>() << ") | " << 100 * g["runout_error"].get<double>() << "%, "
+           << 100 * g["height_error"].get<double>() << "% (" << g["seconds"].get<double>() << ") | "
+           << 100 * k["runout_error"].get<double>() << "%, " << 100 * k["height_error"].get<double>() << "% ("
+           << k["seconds"].get<double>() << ") |\n";
+        csv << r["mu_s"] << ',' << r["mu_d"] << ',' << r["i0"] << ',' << r["full"]["seconds"] << ',' << r["full"]["runout_star"]
+            << ',' << r["full"]["height_star"] << ',' << g["seconds"] << ',' << g["runout_error"] << ',' << g["height_error"]
+            << ',' << g["alpha_error"] << ',' << k["seconds"] << ',' << k["runout_error"] << ',' << k["height_error"] << '\n';
+        dat << g["seconds"].get<double>() << ' ' << std::abs(g["runout_error"].get<double>()) << ' '
+            << std::abs(g["height_error"].get<double>()) << ' ' << k["seconds"].get<double>() << ' '
+            << std::abs(k["runout_error"].get<double>()) << ' ' << std::abs(k["height_error"].get<double>()) << ' '
+            << r["full"]["seconds"].get<double>() << '\n';
+    }
+    writeFileAtomic(b.out / "table.md", md.str());
+    writeFileAtomic(b.out / "table.csv", csv.str());
+    writeFileAtomic(b.out / "rom-bench.dat", dat.str());
+    std::ostringstream gp;
+    gp << "set terminal pngcairo size 800,560\nset output 'rom-bench.png'\nset logscale xy\nset grid\n"
+       << "set format x '10^{%L}'\nset format y '10^{%L}'\nset xlabel 'online time per answer [s]'\n"
+       << "set ylabel '|relative error| against the held-out full run'\nset key top right\n"
+       << "set title 'Collapse: " << held.size() << " held-out runs, models trained on " << train.size() << "'\n"
+       << "set yrange [5e-5:1]\nset arrow from graph 0, first 0.05 to graph 1, first 0.05 nohead dt 2\n"
+       << "plot 'rom-bench.dat' u 1:2 w p pt 7 ps 1.3 t 'POD-Galerkin, L*f', '' u 1:3 w p pt 6 ps 1.3 t 'POD-Galerkin, H*f', "
+       << "'' u 4:5 w p pt 5 ps 1.3 t 'kriging, L*f', '' u 4:6 w p pt 4 ps 1.3 t 'kriging, H*f', "
+       << "'' u 7:(1e-4) w p pt 9 ps 1.5 t 'full run (reference, drawn at 1e-4)'\n";
+    const std::string warn = runGnuplot(b.out, "rom-bench.gp", gp.str());
+    out["table"] = (b.out / "table.md").string();
+    out["plot"] = (b.out / "rom-bench.png").string();
+    if (!warn.empty()) out["warning"] = warn;
+    return out;
+}
+
+}  // namespace mixload::experiments
