@@ -223,9 +223,9 @@ CollapseGalerkin CollapseGalerkin::build(const std::vector<const store::Snapshot
                                                                        first.path().string() + ")");
     CollapseGalerkin r;
     r.options = o;
-    r.shape = CollapseShape::fromSnapshot(first);
-    r.mesh = FvMesh::fromSnapshot(first);
-    r.law = GranularLaw::fromSnapshot(first);
+    r.shape = CollapseShape::fromCase(first);
+    r.mesh = FvMesh::fromCase(first);
+    r.law = GranularLaw::fromCase(first);
     const auto t = first.powderTransport();
     if (!t.contains("airRho") || !t.contains("airNu"))
         throw InputError("snapshot file", first.path().string(),
@@ -398,7 +398,7 @@ nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::Snapsho
         throw InputError("check file", f.path().string(), "a run on the model's mesh");
     // The target's own law (its mu_s, mu_d, I0 and cap): the model's parameters enter here only.
     CollapseGalerkin rom = built;
-    rom.law = GranularLaw::fromSnapshot(f);
+    rom.law = GranularLaw::fromCase(f);
     const auto& options = rom.options;
     const auto& m = rom.mesh;
     const auto& times = f.times();

@@ -9,7 +9,7 @@
 
 namespace mixload::rom {
 
-CollapseShape CollapseShape::fromSnapshot(const store::SnapshotFile& f) {
+CollapseShape CollapseShape::fromCase(const store::CaseFile& f) {
     const auto p = f.params();
     if (p.value("scene", std::string()) != "collapse2d")
         throw InputError("snapshot file", f.path().string(), "a collapse2d run's snapshots");

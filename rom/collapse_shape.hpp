@@ -17,7 +17,7 @@ struct CollapseShape {
     int bins = 0;
 
     // From a collapse snapshot file's params and mesh; InputError for another scene.
-    static CollapseShape fromSnapshot(const store::SnapshotFile& f);
+    static CollapseShape fromCase(const store::CaseFile& f);
     Eigen::VectorXd profile(const FvMesh& m, const Eigen::VectorXd& alpha) const;
     double front(const Eigen::VectorXd& profile) const;
     double runoutStar(const FvMesh& m, const Eigen::VectorXd& alpha) const;  // (L - Li) / Li

@@ -17,7 +17,7 @@ Vectors rows3(const std::vector<double>& v, const std::vector<Eigen::Index>& pic
 }
 }  // namespace
 
-FvMesh FvMesh::fromSnapshot(const store::SnapshotFile& f) {
+FvMesh FvMesh::fromCase(const store::CaseFile& f) {
     FvMesh m;
     const auto owner = f.meshInts("owner");
     m.neighbour = f.meshInts("neighbour");

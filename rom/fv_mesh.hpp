@@ -35,7 +35,7 @@ struct FvMesh {
     std::vector<Patch> patches;             // non-empty patches
 
     Eigen::Index faces() const { return internalFaces + boundaryFaces; }
-    static FvMesh fromSnapshot(const store::SnapshotFile& f);
+    static FvMesh fromCase(const store::CaseFile& f);
 };
 
 }  // namespace mixload::rom

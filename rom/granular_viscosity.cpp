@@ -8,7 +8,7 @@
 
 namespace mixload::rom {
 
-GranularLaw GranularLaw::fromSnapshot(const store::SnapshotFile& f) {
+GranularLaw GranularLaw::fromCase(const store::CaseFile& f) {
     const auto t = f.powderTransport();
     const std::string model = t.value("model", std::string());
     if (model != "muI")

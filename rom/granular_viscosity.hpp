@@ -18,7 +18,7 @@ struct GranularLaw {
     double rho = 0, d = 0, rhoS = 0, etaMax = 0, pMin = 0;
 
     // Throws InputError for a file without coefficients or a model other than muI.
-    static GranularLaw fromSnapshot(const store::SnapshotFile& f);
+    static GranularLaw fromCase(const store::CaseFile& f);
     // nu = min(mu(I) max(p, pMin) / gammaDot, etaMax) / rho, cell by cell.
     Eigen::VectorXd nu(const Eigen::VectorXd& strainRate, const Eigen::VectorXd& p) const;
 };

@@ -15,8 +15,8 @@ namespace mixload::rom {
 nlohmann::json viscosityDeim(const store::SnapshotSet& set, const ViscosityDeimOptions& o) {
     requireRange("modes", o.modes, 1, 10000);
     const auto& first = set.files().front();
-    const auto mesh = FvMesh::fromSnapshot(first);
-    const auto law = GranularLaw::fromSnapshot(first);
+    const auto mesh = FvMesh::fromCase(first);
+    const auto law = GranularLaw::fromCase(first);
     // Every snapshot's viscosity; even positions (over the whole set) train, odd ones are held out.
     std::vector<Eigen::VectorXd> train, test;
     std::vector<double> trainTimes, testTimes;

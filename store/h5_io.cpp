@@ -244,4 +244,25 @@ std::vector<Attr> attrs(hid_t obj) {
     return out;
 }
 
+std::vector<std::string> members(hid_t group) {
+    H5G_info_t info;
+    if (H5Gget_info(group, &info) < 0) throw std::runtime_error("HDF5: cannot list a group");
+    std::vector<std::string> out;
+    for (hsize_t i = 0; i < info.nlinks; ++i) {
+        const ssize_t len = H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0,
+                                               H5P_DEFAULT);
+        std::string name(static_cast<size_t>(std::max<ssize_t>(len, 0)), '\0');
+        H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size() + 1,
+                           H5P_DEFAULT);
+        out.push_back(name);
+    }
+    return out;
+}
+
+nlohmann::json attrsJson(hid_t obj) {
+    nlohmann::json j = nlohmann::json::object();
+    for (const auto& a : h5::attrs(obj)) j[a.name] = a.isString ? nlohmann::json(a.text) : nlohmann::json(a.number);
+    return j;
+}
+
 }  // namespace mixload::h5

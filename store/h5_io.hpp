@@ -2,6 +2,7 @@
 // The few HDF5 operations snapshots need, over the C API with handles that close themselves.
 // Every failure becomes a std::runtime_error naming the object, never a printed HDF5 error stack.
 #pragma once
+#include <nlohmann/json.hpp>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -71,5 +72,8 @@ struct Attr {
     double number = 0;
 };
 std::vector<Attr> attrs(hid_t obj);
+// A group's members by name, and an object's attributes as JSON (numbers and strings).
+std::vector<std::string> members(hid_t group);
+nlohmann::json attrsJson(hid_t obj);
 
 }  // namespace mixload::h5

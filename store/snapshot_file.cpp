@@ -16,27 +16,6 @@ std::string storedFieldName(const std::string& field) { return field == "alpha" 
 
 namespace {
 
-std::vector<std::string> members(hid_t group) {
-    H5G_info_t info;
-    if (H5Gget_info(group, &info) < 0) throw std::runtime_error("HDF5: cannot list a group");
-    std::vector<std::string> out;
-    for (hsize_t i = 0; i < info.nlinks; ++i) {
-        const ssize_t len = H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0,
-                                               H5P_DEFAULT);
-        std::string name(static_cast<size_t>(std::max<ssize_t>(len, 0)), '\0');
-        H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size() + 1,
-                           H5P_DEFAULT);
-        out.push_back(name);
-    }
-    return out;
-}
-
-nlohmann::json attrsJson(hid_t obj) {
-    nlohmann::json j = nlohmann::json::object();
-    for (const auto& a : h5::attrs(obj)) j[a.name] = a.isString ? nlohmann::json(a.text) : nlohmann::json(a.number);
-    return j;
-}
-
 nlohmann::json datasetJson(hid_t loc, const std::string& path, bool verify) {
     const auto d = h5::openDataset(loc, path);
     const h5::Handle type(H5Dget_type(d), H5Tclose);
@@ -53,57 +32,22 @@ nlohmann::json datasetJson(hid_t loc, const std::string& path, bool verify) {
             {"stored_bytes", H5Dget_storage_size(d)}};
 }
 
-std::string bytesOf(const std::vector<double>& v) {
-    return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(double));
-}
-std::string bytesOf(const std::vector<int32_t>& v) {
-    return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(int32_t));
-}
 
 }  // namespace
 
-SnapshotFile::SnapshotFile(const fs::path& file) : path_(file) {
+SnapshotFile::SnapshotFile(const fs::path& file) : CaseFile(file, kSnapshotSchema, 1, kSnapshotSchemaVersion) {
     namingFile(file, [&] {
-        file_ = h5::openFile(file);
-        const auto a = attrsJson(file_);
-        if (a.value("schema", std::string()) != kSnapshotSchema)
-            throw std::runtime_error("not a mixload snapshot file (no schema = " + std::string(kSnapshotSchema) + ")");
-        const int v = static_cast<int>(a.value("schema_version", 0.0));
-        if (v < 1 || v > kSnapshotSchemaVersion)
-            throw std::runtime_error("snapshot schema version " + std::to_string(v) + ", this mixload reads 1 to " +
-                                     std::to_string(kSnapshotSchemaVersion));
-        for (const char* need : {"/time", "/mesh/cell_volumes", "/mesh/owner", "/fields", "/params"})
+        for (const char* need : {"/time", "/fields"})
             if (!h5::exists(file_, need)) throw std::runtime_error(std::string("missing ") + need);
         times_ = h5::readDoubles(file_, "time");
-        const auto vol = h5::readDoubles(file_, "/mesh/cell_volumes");
-        volumes_ = Eigen::Map<const Eigen::VectorXd>(vol.data(), static_cast<Eigen::Index>(vol.size()));
-        std::string key = bytesOf(vol) + bytesOf(h5::readInts(file_, "/mesh/owner"));
-        if (h5::exists(file_, "/mesh/neighbour")) key += bytesOf(h5::readInts(file_, "/mesh/neighbour"));
-        fingerprint_ = stableHash(key);
         return 0;
     });
-}
-
-nlohmann::json SnapshotFile::provenance() const { return attrsJson(file_); }
-
-nlohmann::json SnapshotFile::params() const {
-    return namingFile(path_, [&] {
-        auto p = attrsJson(h5::openGroup(file_, "params"));
-        p.erase("scene_json");
-        return p;
-    });
-}
-
-nlohmann::json SnapshotFile::powderTransport() const {
-    if (!h5::exists(file_, "/params/powder_transport"))
-        throw InputError("powder transport", path_.string(), "a snapshot file exported by this mixload (re-export the run)");
-    return namingFile(path_, [&] { return attrsJson(h5::openGroup(file_, "/params/powder_transport")); });
 }
 
 std::vector<std::string> SnapshotFile::fields() const {
     return namingFile(path_, [&] {
         std::vector<std::string> out;
-        for (const auto& m : members(h5::openGroup(file_, "fields")))
+        for (const auto& m : h5::members(h5::openGroup(file_, "fields")))
             if (m != "cell_centres") out.push_back(m);
         return out;
     });
@@ -149,33 +93,7 @@ Eigen::VectorXd SnapshotFile::faceColumn(const std::string& field, size_t t) con
     return rowOf(file_, path_, "/faces/" + field, t, times_.size(), "face field");
 }
 
-std::vector<SnapshotFile::Patch> SnapshotFile::patches() const {
-    return namingFile(path_, [&] {
-        std::vector<Patch> out;
-        const auto g = h5::openGroup(file_, "/mesh/patches");
-        for (const auto& name : members(g)) {
-            Patch p;
-            p.name = name;
-            for (const auto& a : h5::attrs(h5::openGroup(g, name))) {
-                if (a.name == "type") p.type = a.text;
-                else if (a.name == "start_face") p.start = static_cast<long long>(a.number);
-                else if (a.name == "n_faces") p.size = static_cast<long long>(a.number);
-            }
-            out.push_back(p);
-        }
-        // Groups list by name; operators need the mesh's face order.
-        std::sort(out.begin(), out.end(), [](const Patch& a, const Patch& b) { return a.start < b.start; });
-        return out;
-    });
-}
 
-std::vector<double> SnapshotFile::meshDoubles(const std::string& name) const {
-    return namingFile(path_, [&] { return h5::readDoubles(file_, "/mesh/" + name); });
-}
-
-std::vector<int32_t> SnapshotFile::meshInts(const std::string& name) const {
-    return namingFile(path_, [&] { return h5::readInts(file_, "/mesh/" + name); });
-}
 
 Eigen::MatrixXd SnapshotFile::matrix(const std::string& field, const std::vector<size_t>& timeIndices) const {
     std::vector<size_t> idx = timeIndices;
@@ -198,12 +116,12 @@ nlohmann::json SnapshotFile::info(bool verify) const {
                       {"last", times_.empty() ? 0.0 : times_.back()}};
         j["cells"] = cells();
         j["faces"] = h5::shape(h5::openDataset(file_, "/mesh/owner"))[0];
-        j["mesh_fingerprint"] = fingerprint_;
+        j["mesh_fingerprint"] = meshFingerprint();
         nlohmann::json ds = nlohmann::json::array();
         for (const char* g : {"mesh", "fields", "history"}) {
             if (!h5::exists(file_, g)) continue;
             auto grp = h5::openGroup(file_, g);
-            for (const auto& m : members(grp)) {
+            for (const auto& m : h5::members(grp)) {
                 const std::string path = std::string("/") + g + "/" + m;
                 H5O_info_t oi;
                 if (H5Oget_info_by_name2(file_, path.c_str(), &oi, H5O_INFO_BASIC, H5P_DEFAULT) < 0 ||

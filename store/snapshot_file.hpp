@@ -12,6 +12,7 @@
 #include <Eigen/Dense>
 #include <nlohmann/json.hpp>
 
+#include "store/case_file.hpp"
 #include "store/h5_io.hpp"
 
 namespace mixload::store {
@@ -23,23 +24,13 @@ inline constexpr int kSnapshotSchemaVersion = 2;
 // "alpha" is the powder fraction, stored under OpenFOAM's name.
 std::string storedFieldName(const std::string& field);
 
-class SnapshotFile {
+class SnapshotFile : public CaseFile {
 public:
     // Checks schema, version and the groups every reader needs; throws InputError naming the file
     // (truncated, corrupt, another schema or version).
     explicit SnapshotFile(const std::filesystem::path& file);
 
-    const std::filesystem::path& path() const { return path_; }
     const std::vector<double>& times() const { return times_; }
-    size_t cells() const { return static_cast<size_t>(volumes_.size()); }
-    const Eigen::VectorXd& cellVolumes() const { return volumes_; }
-    // Same cells, faces and volumes: files of one mesh (bitwise, as mixload writes them).
-    const std::string& meshFingerprint() const { return fingerprint_; }
-    nlohmann::json provenance() const;
-    nlohmann::json params() const;  // every scene input (without the verbatim scene_json)
-    // The powder's viscosity model and coefficients as the solver read them (InputError if the file
-    // predates them).
-    nlohmann::json powderTransport() const;
     std::vector<std::string> fields() const;
     int components(const std::string& field) const;  // 1 (scalar) or 3 (vector)
     // One time as a column: cells (scalar) or 3 x cells, the components of a cell together.
@@ -55,20 +46,8 @@ public:
     // every dataset, so a corrupt chunk (checksum) is reported.
     nlohmann::json info(bool verify = true) const;
 
-    struct Patch {
-        std::string name, type;
-        long long start = 0, size = 0;
-    };
-    std::vector<Patch> patches() const;
-    std::vector<double> meshDoubles(const std::string& name) const;  // /mesh/<name>, flattened
-    std::vector<int32_t> meshInts(const std::string& name) const;
-
 private:
-    std::filesystem::path path_;
-    h5::Handle file_;
     std::vector<double> times_;
-    Eigen::VectorXd volumes_;
-    std::string fingerprint_;
 };
 
 // Snapshot files of one mesh, in order. Columns are numbered file by file, time by time.

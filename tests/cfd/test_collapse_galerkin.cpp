@@ -44,7 +44,7 @@ fs::path snapshots() {
 
 TEST(CollapseGalerkin, PartsHoldOnTheRealMesh) {
     const store::SnapshotFile f(snapshots());
-    const auto m = rom::FvMesh::fromSnapshot(f);
+    const auto m = rom::FvMesh::fromCase(f);
     // A uniform velocity's flux reconstructs to it in every cell.
     const Eigen::RowVector3d u0(0.3, -0.2, 0.0);
     const Eigen::VectorXd flux = m.Sf * u0.transpose();

@@ -51,7 +51,7 @@ void checkOperators(const fs::path& run) {
     ASSERT_FALSE(timeName.empty());
     run::runUtility(run, {MIXLOAD_FVC_REF, "-time", timeName});
 
-    const auto m = rom::FvMesh::fromSnapshot(f);
+    const auto m = rom::FvMesh::fromCase(f);
     const auto polyMesh = post::readPolyMesh(run / "constant" / "polyMesh");
     const fs::path dir = run / timeName;
     const auto vol = [&](const std::string& name) { return post::readInternalField(dir / name, polyMesh.nCells).values; };
@@ -77,7 +77,7 @@ void checkOperators(const fs::path& run) {
                      vol("fvcRef.laplacianP.alpha")),
               1e-10)
         << "laplacian with a face diffusivity";
-    const auto law = rom::GranularLaw::fromSnapshot(f);
+    const auto law = rom::GranularLaw::fromCase(f);
     const Eigen::VectorXd sr = rom::strainRate(m, rom::asVectors(f.column("U", t)), rom::asVectors(f.boundaryColumn("U", t)));
     EXPECT_LT(relErr(law.nu(sr, f.column("p", t)), vol("fvcRef.nu.powder")), 1e-10) << "mu(I) viscosity";
 }
