@@ -12,6 +12,7 @@
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
 #include "rom/collapse_galerkin.hpp"
+#include "rom/collapse_model_file.hpp"
 #include "rom/pod_model.hpp"
 #include "rom/viscosity_deim.hpp"
 #include "store/snapshot_file.hpp"
@@ -238,86 +239,176 @@ void addRom(CLI::App& app, Action& action) {
         };
     });
 
-    struct GalerkinCmd {
-        std::vector<std::string> files, check;
+    // The POD-Galerkin collapse: build (bases from training runs, to a model file), check (against
+    // stored runs), run (a prediction at new mu(I) coefficients).
+    struct RunOptions {
         std::string pressure = "lithostatic", plot;
         rom::CollapseGalerkinOptions opt;
         bool json = false;
+        void add(CLI::App* c, bool diagnoses) {
+            c->add_option("--pressure", pressure, "Pressure for the mu(I) law: lithostatic | recovered (from the reduced momentum)")
+                ->capture_default_str();
+            c->add_option("--courant", opt.courant, "Transport Courant number of a step")->capture_default_str();
+            c->add_option("--c-alpha", opt.cAlpha, "Interface compression of the alpha transport (0: none)")->capture_default_str();
+            c->add_option("--rtol", opt.rtol, "CVODE relative tolerance")->capture_default_str();
+            c->add_flag("--restart-each-step", opt.restartEachStep, "Restart CVODE after every alpha step (the strict splitting; slower)");
+            c->add_option("--mass-tolerance", opt.massTolerance, "Stop with an error when the powder volume drifts by more than this share")
+                ->capture_default_str();
+            if (diagnoses) {
+                c->add_flag("--stored-pressure", opt.storedPressure,
+                            "Diagnosis: the mu(I) law reads the run's stored pressure instead of the closure");
+                c->add_flag("--stored-flux", opt.storedFlux,
+                            "Diagnosis: alpha is carried by the run's stored flux (no reduced flow): the transport's own error");
+            }
+            c->add_flag("--json", json, "Print JSON");
+        }
+        // The model's build options with these run options over them.
+        rom::CollapseGalerkin apply(rom::CollapseGalerkin m) const {
+            if (!(opt.courant > 0 && opt.courant <= 0.5))
+                throw InputError("courant", std::to_string(opt.courant), "(0, 0.5]: the van Leer transport's bound");
+            if (pressure != "recovered" && pressure != "lithostatic") throw InputError("pressure", pressure, "lithostatic or recovered");
+            if (!(opt.cAlpha >= 0 && opt.cAlpha <= 4)) throw InputError("c-alpha", std::to_string(opt.cAlpha), "[0, 4]");
+            if (!(opt.rtol > 0 && opt.rtol < 1)) throw InputError("rtol", std::to_string(opt.rtol), "(0, 1)");
+            if (!(opt.massTolerance > 0 && opt.massTolerance <= 1))
+                throw InputError("mass-tolerance", std::to_string(opt.massTolerance), "(0, 1]");
+            auto& o = m.options;
+            o.pressure = pressure == "recovered" ? rom::PressureClosure::recovered : rom::PressureClosure::lithostatic;
+            o.courant = opt.courant;
+            o.cAlpha = opt.cAlpha;
+            o.rtol = opt.rtol;
+            o.restartEachStep = opt.restartEachStep;
+            o.massTolerance = opt.massTolerance;
+            o.storedPressure = opt.storedPressure;
+            o.storedFlux = opt.storedFlux;
+            return m;
+        }
     };
-    auto g = std::make_shared<GalerkinCmd>();
-    auto* gal = cmd->add_subcommand(
-        "galerkin", "POD-Galerkin model of the collapse: build it on runs' snapshots (alpha, U, p, phi), run it from "
-                    "rest with each checked run's mu(I) coefficients and compare with every stored field");
-    gal->add_option("FILES", g->files, "Training snapshot files of collapses on one mesh (snapshots export ... --fields alpha,U,p,phi --float64)")
+
+    struct BuildCmd {
+        std::vector<std::string> files;
+        std::string output;
+        rom::CollapseGalerkinOptions opt;
+        bool json = false;
+    };
+    auto bo = std::make_shared<BuildCmd>();
+    auto* build = cmd->add_subcommand(
+        "build", "POD-Galerkin model of the collapse from runs' snapshots on one mesh (alpha, U, p, phi), to a model file");
+    build->add_option("FILES", bo->files, "Training snapshot files (snapshots export RUN -o F.h5 --fields alpha,U,p,phi --float64)")
         ->required();
-    gal->add_option("--check", g->check, "Runs to compare with (default: the training runs); held-out runs make it a prediction");
-    gal->add_option("--modes", g->opt.modes, "Flow modes (0: as many as --energy needs)")->capture_default_str();
-    gal->add_option("--energy", g->opt.energy, "Share of the flow's energy the modes keep (with --modes 0)")->capture_default_str();
-    gal->add_flag("--reduced-alpha", g->opt.reducedAlpha, "Reduce the powder fraction too (else it is carried on the mesh)");
-    gal->add_option("--alpha-modes", g->opt.alphaModes, "Powder-fraction modes (0: by --alpha-energy)")->capture_default_str();
-    gal->add_option("--alpha-energy", g->opt.alphaEnergy, "Share of alpha's energy its modes keep")->capture_default_str();
-    gal->add_option("--train-every", g->opt.trainEvery, "Train on every k-th stored time; the others are held out")->capture_default_str();
-    gal->add_option("--courant", g->opt.courant, "Transport Courant number of a step")->capture_default_str();
-    gal->add_option("--c-alpha", g->opt.cAlpha, "Interface compression of the alpha transport (0: none)")->capture_default_str();
-    gal->add_option("--rtol", g->opt.rtol, "CVODE relative tolerance")->capture_default_str();
-    gal->add_flag("--restart-each-step", g->opt.restartEachStep,
-                  "Restart CVODE after every alpha step (the strict splitting; slower)");
-    gal->add_option("--mass-tolerance", g->opt.massTolerance,
-                    "Stop with an error when the powder volume drifts by more than this share")->capture_default_str();
-    gal->add_option("--pressure", g->pressure, "Pressure for the mu(I) law: recovered (from the reduced momentum) | lithostatic")
-        ->capture_default_str();
-    gal->add_flag("--stored-pressure", g->opt.storedPressure,
-                  "Diagnosis: the mu(I) law reads the run's stored pressure instead of the lithostatic closure");
-    gal->add_flag("--stored-flux", g->opt.storedFlux,
-                  "Diagnosis: alpha is carried by the run's stored flux (no reduced flow): the transport's own error");
-    gal->add_option("--plot", g->plot, "Also draw L*(t) and H*(t) of the model against each checked run (PNG)");
-    gal->add_flag("--json", g->json, "Print JSON (with the per-time errors)");
-    gal->callback([&action, g] {
-        action = [g] {
-            if (!(g->opt.courant > 0 && g->opt.courant <= 0.5))
-                throw InputError("courant", std::to_string(g->opt.courant), "(0, 0.5]: the van Leer transport's bound");
-            if (!(g->opt.energy > 0 && g->opt.energy <= 1)) throw InputError("energy", std::to_string(g->opt.energy), "(0, 1]");
-            if (g->pressure != "recovered" && g->pressure != "lithostatic")
-                throw InputError("pressure", g->pressure, "recovered or lithostatic");
-            g->opt.pressure = g->pressure == "recovered" ? rom::PressureClosure::recovered : rom::PressureClosure::lithostatic;
-            if (!(g->opt.cAlpha >= 0 && g->opt.cAlpha <= 4)) throw InputError("c-alpha", std::to_string(g->opt.cAlpha), "[0, 4]");
-            if (!(g->opt.massTolerance > 0 && g->opt.massTolerance <= 1))
-                throw InputError("mass-tolerance", std::to_string(g->opt.massTolerance), "(0, 1]");
+    build->add_option("-o,--output", bo->output, "Model file (.h5)")->required();
+    build->add_option("--modes", bo->opt.modes, "Flow modes (0: as many as --energy needs)")->capture_default_str();
+    build->add_option("--energy", bo->opt.energy, "Share of the flow's energy the modes keep (with --modes 0)")->capture_default_str();
+    build->add_flag("--reduced-alpha", bo->opt.reducedAlpha, "Reduce the powder fraction too (else it is carried on the mesh)");
+    build->add_option("--alpha-modes", bo->opt.alphaModes, "Powder-fraction modes (0: by --alpha-energy)")->capture_default_str();
+    build->add_option("--alpha-energy", bo->opt.alphaEnergy, "Share of alpha's energy its modes keep")->capture_default_str();
+    build->add_option("--train-every", bo->opt.trainEvery, "Train on every k-th stored time; the others are held out")->capture_default_str();
+    build->add_flag("--json", bo->json, "Print JSON");
+    build->callback([&action, bo] {
+        action = [bo] {
+            if (!(bo->opt.energy > 0 && bo->opt.energy <= 1)) throw InputError("energy", std::to_string(bo->opt.energy), "(0, 1]");
+            if (!(bo->opt.alphaEnergy > 0 && bo->opt.alphaEnergy <= 1))
+                throw InputError("alpha-energy", std::to_string(bo->opt.alphaEnergy), "(0, 1]");
             std::vector<store::SnapshotFile> train;
-            for (const auto& f : g->files) train.emplace_back(f);
+            for (const auto& f : bo->files) train.emplace_back(f);
             std::vector<const store::SnapshotFile*> ptrs;
             for (const auto& f : train) ptrs.push_back(&f);
-            const auto model = rom::CollapseGalerkin::build(ptrs, g->opt);
+            const auto model = rom::CollapseGalerkin::build(ptrs, bo->opt);
+            rom::writeCollapseModel(model, train.front(), bo->output);
+            const nlohmann::json j{{"model", fs::absolute(bo->output).string()},
+                                   {"cells", model.mesh.cells},
+                                   {"modes", model.modes()},
+                                   {"flow_energy_kept", model.flow.keptEnergy()},
+                                   {"alpha", model.alpha ? "reduced" : "mesh"},
+                                   {"alpha_modes", model.alpha ? model.alpha->modes.cols() : 0},
+                                   {"train_files", model.trainFiles.size()},
+                                   {"train_times", model.trainTimes},
+                                   {"build_seconds", model.buildSeconds},
+                                   {"bytes", fs::file_size(bo->output)}};
+            if (bo->json) {
+                std::cout << j.dump(2) << '\n';
+                return 0;
+            }
+            std::cout << std::setprecision(4) << "POD-Galerkin collapse model " << j["model"].get<std::string>() << ": "
+                      << model.mesh.cells << " cells, " << model.modes() << " flow modes (energy " << model.flow.keptEnergy()
+                      << "), alpha "
+                      << (model.alpha ? "reduced (" + std::to_string(model.alpha->modes.cols()) + " modes)" : std::string("on the mesh"))
+                      << ", " << model.trainTimes << " snapshots of " << model.trainFiles.size() << " run(s), built in "
+                      << model.buildSeconds << " s, " << j["bytes"].get<double>() / 1e6 << " MB\n";
+            return 0;
+        };
+    });
+
+    struct CheckCmd : RunOptions {
+        std::string model;
+        std::vector<std::string> runs;
+    };
+    auto co = std::make_shared<CheckCmd>();
+    auto* check = cmd->add_subcommand(
+        "check", "Run a collapse model from rest with each stored run's mu(I) coefficients and compare with its fields: "
+                 "a reproduction for training runs, a prediction for the others");
+    check->add_option("MODEL", co->model, "Model file (mixload rom build)")->required();
+    check->add_option("RUNS", co->runs, "Snapshot files of runs on the model's mesh")->required();
+    co->add(check, true);
+    check->add_option("--plot", co->plot, "Also draw L*(t) and H*(t) of the model against each run (PNG)");
+    check->callback([&action, co] {
+        action = [co] {
+            const auto model = co->apply(rom::readCollapseModel(co->model));
             nlohmann::json checks = nlohmann::json::array();
-            for (const auto& c : g->check.empty() ? g->files : g->check) checks.push_back(rom::checkCollapse(model, store::SnapshotFile(c)));
+            for (const auto& c : co->runs) checks.push_back(rom::checkCollapse(model, store::SnapshotFile(c)));
             std::string warn;
-            if (!g->plot.empty()) warn = plotGalerkin(checks, model.tStar, g->plot);
+            if (!co->plot.empty()) warn = plotGalerkin(checks, model.tStar, co->plot);
             if (!warn.empty())
                 for (auto& c : checks) c["warning"] = warn;
-            if (g->json) {
+            if (co->json) {
                 std::cout << (checks.size() == 1 ? checks[0] : checks).dump(2) << '\n';
                 return 0;
             }
-            std::cout << std::setprecision(4) << "POD-Galerkin collapse on " << model.mesh.cells << " cells: " << model.modes()
-                      << " flow modes (energy " << model.flow.keptEnergy() << "), alpha "
-                      << (model.alpha ? "reduced (" + std::to_string(model.alpha->modes.cols()) + " modes)" : std::string("on the mesh"))
-                      << ", " << model.trainTimes << " snapshots of " << model.trainFiles.size() << " run(s), built in "
-                      << model.buildSeconds << " s\n";
+            std::cout << std::setprecision(4);
             for (const auto& j : checks) {
-            std::cout << (j["trained_on_this_run"].get<bool>() ? "reproducing " : "predicting ") << j["snapshots"].get<std::string>()
-                      << " (mu_s " << j["mu_s"].get<double>() << ", mu_d " << j["mu_d"].get<double>() << ", I0 "
-                      << j["i0"].get<double>() << ")\n  pressure (" << j["pressure"].get<std::string>() << ") error in the powder " << j["pressure_error_mean"].get<double>()
-                      << " (lithostatic on the stored fields: " << j["lithostatic_pressure_error"].get<double>()
-                      << ")\n  alpha rel. L2 error mean "
-                      << j["alpha_error_mean"].get<double>() << " max " << j["alpha_error_max"].get<double>()
-                      << "; U error (of peak |U|) mean " << j["u_error_mean"].get<double>() << " max "
-                      << j["u_error_max"].get<double>() << "\n  L*f " << j["runout_star"].get<double>() << " (full "
-                      << j["runout_star_full"].get<double>() << ", " << 100 * j["runout_error"].get<double>() << "%), H*f "
-                      << j["height_star"].get<double>() << " (full " << j["height_star_full"].get<double>() << ", "
-                      << 100 * j["height_error"].get<double>() << "%)\n  online " << j["online_seconds"].get<double>()
-                      << " s (" << j["steps"] << " steps, " << j["rhs_evaluations"] << " flow evaluations)\n";
+                std::cout << (j["trained_on_this_run"].get<bool>() ? "reproducing " : "predicting ") << j["snapshots"].get<std::string>()
+                          << " (mu_s " << j["mu_s"].get<double>() << ", mu_d " << j["mu_d"].get<double>() << ", I0 "
+                          << j["i0"].get<double>() << ") with " << j["modes"] << " modes\n  pressure ("
+                          << j["pressure"].get<std::string>() << ") error in the powder " << j["pressure_error_mean"].get<double>()
+                          << " (lithostatic on the stored fields: " << j["lithostatic_pressure_error"].get<double>()
+                          << ")\n  alpha rel. L2 error mean " << j["alpha_error_mean"].get<double>() << " max "
+                          << j["alpha_error_max"].get<double>() << "; U error (of peak |U|) mean " << j["u_error_mean"].get<double>()
+                          << " max " << j["u_error_max"].get<double>() << "\n  L*f " << j["runout_star"].get<double>() << " (full "
+                          << j["runout_star_full"].get<double>() << ", " << 100 * j["runout_error"].get<double>() << "%), H*f "
+                          << j["height_star"].get<double>() << " (full " << j["height_star_full"].get<double>() << ", "
+                          << 100 * j["height_error"].get<double>() << "%)\n  online " << j["online_seconds"].get<double>()
+                          << " s (" << j["steps"] << " steps, " << j["rhs_evaluations"] << " flow evaluations)\n";
             }
-            if (!g->plot.empty()) std::cout << (warn.empty() ? "plot: " + g->plot : "warning: " + warn) << '\n';
+            if (!co->plot.empty()) std::cout << (warn.empty() ? "plot: " + co->plot : "warning: " + warn) << '\n';
+            return 0;
+        };
+    });
+
+    struct RunCmd : RunOptions {
+        std::string model;
+        double muS = 0, muD = 0, i0 = 0, endTstar = 8;
+        int perTstar = 20;
+    };
+    auto ro = std::make_shared<RunCmd>();
+    auto* run = cmd->add_subcommand("run", "Predict a collapse with a model file: L*(t), H*(t), L*f and H*f at new mu(I) coefficients");
+    run->add_option("MODEL", ro->model, "Model file (mixload rom build)")->required();
+    run->add_option("--mu-s", ro->muS, "mu_s (as the solver reads it: the standard convention)")->required();
+    run->add_option("--mu-d", ro->muD, "mu_d (> mu_s)")->required();
+    run->add_option("--i0", ro->i0, "I0")->required();
+    run->add_option("--end-tstar", ro->endTstar, "Simulated time, in t*")->capture_default_str();
+    run->add_option("--writes-per-tstar", ro->perTstar, "Output times per t*")->capture_default_str();
+    ro->add(run, false);
+    run->callback([&action, ro] {
+        action = [ro] {
+            const auto model = ro->apply(rom::readCollapseModel(ro->model));
+            const auto j = rom::predictCollapse(model, ro->muS, ro->muD, ro->i0, ro->endTstar, ro->perTstar);
+            if (ro->json) {
+                std::cout << j.dump(2) << '\n';
+                return 0;
+            }
+            std::cout << std::setprecision(4) << "collapse (mu_s " << ro->muS << ", mu_d " << ro->muD << ", I0 " << ro->i0
+                      << ") by the model " << ro->model << ": L*f " << j["runout_star"].get<double>() << ", H*f "
+                      << j["height_star"].get<double>() << " at " << ro->endTstar << " t* (" << j["online_seconds"].get<double>()
+                      << " s)\n";
             return 0;
         };
     });

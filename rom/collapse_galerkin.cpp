@@ -15,6 +15,8 @@
 
 namespace mixload::rom {
 
+namespace fs = std::filesystem;
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -210,6 +212,23 @@ class Model {
 
 }  // namespace
 
+CollapseGalerkin CollapseGalerkin::fromCase(const store::CaseFile& f) {
+    CollapseGalerkin r;
+    r.shape = CollapseShape::fromCase(f);
+    r.mesh = FvMesh::fromCase(f);
+    r.law = GranularLaw::fromCase(f);
+    const auto t = f.powderTransport();
+    if (!t.contains("airRho") || !t.contains("airNu"))
+        throw InputError("snapshot file", f.path().string(),
+                         "snapshots exported with the air's density and viscosity (export them again)");
+    r.airRho = t["airRho"].get<double>();
+    r.airNu = t["airNu"].get<double>();
+    r.gravity = f.params().at("gravity_m_s2").get<double>();
+    r.tStar = std::sqrt(r.shape.height / r.gravity);
+    r.walls = collapseWalls(r.mesh);
+    return r;
+}
+
 CollapseGalerkin CollapseGalerkin::build(const std::vector<const store::SnapshotFile*>& files,
                                          const CollapseGalerkinOptions& o) {
     const auto t0 = Clock::now();
@@ -221,26 +240,22 @@ CollapseGalerkin CollapseGalerkin::build(const std::vector<const store::Snapshot
         if (f->meshFingerprint() != first.meshFingerprint())
             throw InputError("snapshot file", f->path().string(), "runs on one mesh (the same aspect ratio and cells as " +
                                                                        first.path().string() + ")");
-    CollapseGalerkin r;
+    CollapseGalerkin r = fromCase(first);
     r.options = o;
-    r.shape = CollapseShape::fromCase(first);
-    r.mesh = FvMesh::fromCase(first);
-    r.law = GranularLaw::fromCase(first);
-    const auto t = first.powderTransport();
-    if (!t.contains("airRho") || !t.contains("airNu"))
-        throw InputError("snapshot file", first.path().string(),
-                         "snapshots exported with the air's density and viscosity (export them again)");
-    r.airRho = t["airRho"].get<double>();
-    r.airNu = t["airNu"].get<double>();
-    r.gravity = first.params().at("gravity_m_s2").get<double>();
-    r.tStar = std::sqrt(r.shape.height / r.gravity);
-    r.walls = collapseWalls(r.mesh);
+    r.meshFingerprint = first.meshFingerprint();
     const auto& m = r.mesh;
 
     // Training columns: every k-th stored time of every file.
     std::vector<std::pair<const store::SnapshotFile*, size_t>> cols;
     for (const auto* f : files) {
         r.trainFiles.push_back(f->path().string());
+        const auto t = f->powderTransport();
+        r.sources.push_back({{"file", fs::absolute(f->path()).string()},
+                             {"scene_hash", f->provenance().value("scene_hash", std::string())},
+                             {"times", f->times().size()},
+                             {"mu_s", t.value("muS", 0.0)},
+                             {"mu_d", t.value("muD", 0.0)},
+                             {"i0", t.value("I0", 0.0)}});
         for (size_t i = 0; i < f->times().size(); i += static_cast<size_t>(o.trainEvery)) cols.emplace_back(f, i);
     }
     r.trainTimes = cols.size();
@@ -394,7 +409,7 @@ Eigen::VectorXd perComponent(const Eigen::VectorXd& V) {  // cell volumes repeat
 }  // namespace
 
 nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::SnapshotFile& f) {
-    if (f.meshFingerprint() != store::SnapshotFile(built.trainFiles.front()).meshFingerprint())
+    if (f.meshFingerprint() != built.meshFingerprint)
         throw InputError("check file", f.path().string(), "a run on the model's mesh");
     // The target's own law (its mu_s, mu_d, I0 and cap): the model's parameters enter here only.
     CollapseGalerkin rom = built;
@@ -403,7 +418,8 @@ nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::Snapsho
     const auto& m = rom.mesh;
     const auto& times = f.times();
     const Eigen::VectorXd wU = perComponent(m.V);
-    const bool trainedOn = std::find(rom.trainFiles.begin(), rom.trainFiles.end(), f.path().string()) != rom.trainFiles.end();
+    bool trainedOn = false;
+    for (const auto& t : rom.trainFiles) trainedOn = trainedOn || fs::absolute(t) == fs::absolute(f.path());
 
     // The pressure closure on the stored fields: lithostatic against the solver's p, in the powder,
     // and what it does to the mu(I) viscosity there.
@@ -541,6 +557,40 @@ nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::Snapsho
             {"build_seconds", rom.buildSeconds},
             {"online_seconds", tr.wallSeconds},
             {"times", rows}};
+}
+
+nlohmann::json predictCollapse(const CollapseGalerkin& built, double muS, double muD, double i0, double endTstar,
+                               int perTstar) {
+    if (!(muS > 0)) throw InputError("mu-s", std::to_string(muS), "> 0");
+    if (!(muD > muS)) throw InputError("mu-d", std::to_string(muD), "> mu_s (" + std::to_string(muS) + ")");
+    if (!(i0 > 0)) throw InputError("i0", std::to_string(i0), "> 0");
+    if (!(endTstar > 0 && endTstar <= 100)) throw InputError("end-tstar", std::to_string(endTstar), "(0, 100]");
+    if (perTstar < 1 || perTstar > 1000) throw InputError("writes-per-tstar", std::to_string(perTstar), "1 to 1000");
+    CollapseGalerkin rom = built;
+    rom.law.law = {muS, muD, i0};
+    std::vector<double> outputs;
+    for (int k = 1; k <= static_cast<int>(std::ceil(endTstar * perTstar - 1e-9)); ++k)
+        outputs.push_back(std::min(endTstar, static_cast<double>(k) / perTstar) * rom.tStar);
+    const auto& m = rom.mesh;
+    const auto tr = runCollapseGalerkin(rom, rom.shape.initialAlpha(m), Eigen::VectorXd::Zero(m.faces()), 0.0, outputs);
+    nlohmann::json hist = nlohmann::json::array();
+    for (size_t i = 0; i < tr.times.size(); ++i)
+        hist.push_back({{"t_tstar", tr.times[i] / rom.tStar},
+                        {"runout_star", rom.shape.runoutStar(m, tr.alpha[i])},
+                        {"height_star", rom.shape.heightStar(m, tr.alpha[i])},
+                        {"kinetic_energy_j", tr.kineticEnergy[i]}});
+    return {{"mu_s", muS},
+            {"mu_d", muD},
+            {"i0", i0},
+            {"t_star", rom.tStar},
+            {"end_tstar", endTstar},
+            {"runout_star", hist.back()["runout_star"]},
+            {"height_star", hist.back()["height_star"]},
+            {"powder_volume_change", tr.powderVolume.back() / rom.shape.initialAlpha(m).dot(m.V) - 1},
+            {"steps", tr.steps},
+            {"rhs_evaluations", tr.rhsEvaluations},
+            {"online_seconds", tr.wallSeconds},
+            {"history", hist}};
 }
 
 }  // namespace mixload::rom

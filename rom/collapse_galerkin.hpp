@@ -88,7 +88,9 @@ struct CollapseGalerkin {
     std::optional<PodBasis> alpha;
     Eigen::VectorXd alphaLift;    // alpha = alphaLift + X b (reduced alpha)
     CollapseGalerkinOptions options;
+    std::string meshFingerprint;
     std::vector<std::string> trainFiles;
+    nlohmann::json sources = nlohmann::json::array();  // per training file: path, scene hash, times, mu(I)
     size_t trainTimes = 0;        // snapshots the bases were built from, over all files
     double buildSeconds = 0;
 
@@ -96,6 +98,8 @@ struct CollapseGalerkin {
     // parametric model). The law is the first file's until a check replaces it.
     static CollapseGalerkin build(const std::vector<const store::SnapshotFile*>& files,
                                   const CollapseGalerkinOptions& options);
+    // The case's parts (mesh, law, air, gravity, shape, walls) from a snapshot or model file, no bases.
+    static CollapseGalerkin fromCase(const store::CaseFile& f);
     int modes() const { return static_cast<int>(flow.modes.cols()); }
 };
 
@@ -124,5 +128,10 @@ CollapseTrajectory runCollapseGalerkin(const CollapseGalerkin& rom, const Eigen:
 // pressure closure's error, and the costs. The run may be one the model was trained on
 // (reproduction) or not (prediction).
 nlohmann::json checkCollapse(const CollapseGalerkin& rom, const store::SnapshotFile& run);
+
+// A prediction: the model from rest with these mu(I) coefficients (as the solver reads them) to
+// endTstar, L*(t), H*(t) and the kinetic energy at `perTstar` times per t*, and L*f and H*f.
+nlohmann::json predictCollapse(const CollapseGalerkin& rom, double muS, double muD, double i0, double endTstar,
+                               int perTstar);
 
 }  // namespace mixload::rom

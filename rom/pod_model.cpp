@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "rom/pod_model.hpp"
 
-#include <unistd.h>
 
 #include <map>
 #include <sstream>
@@ -95,43 +94,50 @@ Eigen::VectorXd vec(const std::vector<double>& v) {
 std::vector<double> std_(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
 }  // namespace
 
+void writeBasis(hid_t loc, const PodBasis& b) {
+    const auto r = static_cast<hsize_t>(b.weights.size()), k = static_cast<hsize_t>(b.modes.cols()),
+               n = static_cast<hsize_t>(b.eigenvalues.size());
+    h5::write(loc, "weights", {r}, std_(b.weights));
+    h5::write(loc, "field_scales", {b.fieldScales.size()}, b.fieldScales);
+    h5::write(loc, "mean", {r}, std_(b.mean));
+    h5::write(loc, "modes", {k, r}, rowMajor(b.modes.transpose()));
+    h5::write(loc, "eigenvalues", {n}, std_(b.eigenvalues));
+    h5::write(loc, "coefficients", {n, k}, rowMajor(b.coefficients));
+}
+
+PodBasis readBasis(hid_t loc) {
+    PodBasis b;
+    b.weights = vec(h5::readDoubles(loc, "weights"));
+    b.fieldScales = h5::readDoubles(loc, "field_scales");
+    b.mean = vec(h5::readDoubles(loc, "mean"));
+    b.eigenvalues = vec(h5::readDoubles(loc, "eigenvalues"));
+    const auto ms = h5::shape(h5::openDataset(loc, "modes"));
+    b.modes = fromRows(h5::readDoubles(loc, "modes"), ms[0], ms[1]).transpose();
+    const auto cs = h5::shape(h5::openDataset(loc, "coefficients"));
+    b.coefficients = fromRows(h5::readDoubles(loc, "coefficients"), cs[0], cs[1]);
+    b.snapshots = static_cast<size_t>(b.eigenvalues.size());
+    return b;
+}
+
 void writePod(const PodModel& m, const fs::path& file) {
-    fs::path tmp = file;
-    tmp += ".tmp." + std::to_string(::getpid());
-    if (!file.parent_path().empty()) fs::create_directories(file.parent_path());
-    try {
-        {
-            auto f = h5::createFile(tmp);
-            const auto& b = m.basis;
-            const auto r = static_cast<hsize_t>(b.weights.size()), k = static_cast<hsize_t>(b.modes.cols()),
-                       n = static_cast<hsize_t>(b.eigenvalues.size());
-            h5::attr(f, "schema", std::string(kPodSchema));
-            h5::attr(f, "schema_version", static_cast<long long>(kPodSchemaVersion));
-            h5::attr(f, "mixload_version", std::string(kVersion));
-            h5::attr(f, "git_commit", std::string(kGitCommit));
-            h5::attr(f, "created_utc", utcNow());
-            h5::attr(f, "mesh_fingerprint", m.meshFingerprint);
-            h5::attr(f, "fields", joined(m.fields));
-            h5::attr(f, "cells", static_cast<long long>(m.cells));
-            h5::attr(f, "snapshots", static_cast<long long>(b.snapshots));
-            h5::attr(f, "sources", m.sources.dump());
-            h5::attr(f, "energy_target", m.energyTarget);
-            h5::attr(f, "energy_kept", b.keptEnergy());
-            h5::attr(f, "subtract_mean", static_cast<long long>(b.mean.cwiseAbs().sum() > 0));
-            h5::write(f, "weights", {r}, std_(b.weights));
-            h5::write(f, "field_scales", {b.fieldScales.size()}, b.fieldScales);
-            h5::write(f, "components", std::vector<int32_t>(m.components.begin(), m.components.end()));
-            h5::write(f, "mean", {r}, std_(b.mean));
-            h5::write(f, "modes", {k, r}, rowMajor(b.modes.transpose()));
-            h5::write(f, "eigenvalues", {n}, std_(b.eigenvalues));
-            h5::write(f, "coefficients", {n, k}, rowMajor(b.coefficients));
-        }
-        fs::rename(tmp, file);
-    } catch (...) {
-        std::error_code ec;
-        fs::remove(tmp, ec);
-        throw;
-    }
+    h5::writeFileAtomically(file, [&](hid_t f) {
+        const auto& b = m.basis;
+        h5::attr(f, "schema", std::string(kPodSchema));
+        h5::attr(f, "schema_version", static_cast<long long>(kPodSchemaVersion));
+        h5::attr(f, "mixload_version", std::string(kVersion));
+        h5::attr(f, "git_commit", std::string(kGitCommit));
+        h5::attr(f, "created_utc", utcNow());
+        h5::attr(f, "mesh_fingerprint", m.meshFingerprint);
+        h5::attr(f, "fields", joined(m.fields));
+        h5::attr(f, "cells", static_cast<long long>(m.cells));
+        h5::attr(f, "snapshots", static_cast<long long>(b.snapshots));
+        h5::attr(f, "sources", m.sources.dump());
+        h5::attr(f, "energy_target", m.energyTarget);
+        h5::attr(f, "energy_kept", b.keptEnergy());
+        h5::attr(f, "subtract_mean", static_cast<long long>(b.mean.cwiseAbs().sum() > 0));
+        h5::write(f, "components", std::vector<int32_t>(m.components.begin(), m.components.end()));
+        writeBasis(f, b);
+    });
 }
 
 PodModel readPod(const fs::path& file) {
@@ -153,16 +159,7 @@ PodModel readPod(const fs::path& file) {
         m.sources = nlohmann::json::parse(a["sources"].text);
         m.energyTarget = a["energy_target"].number;
         for (const auto& [name, x] : a) m.provenance[name] = x.isString ? nlohmann::json(x.text) : nlohmann::json(x.number);
-        auto& b = m.basis;
-        b.weights = vec(h5::readDoubles(f, "weights"));
-        b.fieldScales = h5::readDoubles(f, "field_scales");
-        b.mean = vec(h5::readDoubles(f, "mean"));
-        b.eigenvalues = vec(h5::readDoubles(f, "eigenvalues"));
-        const auto ms = h5::shape(h5::openDataset(f, "modes"));
-        b.modes = fromRows(h5::readDoubles(f, "modes"), ms[0], ms[1]).transpose();
-        const auto cs = h5::shape(h5::openDataset(f, "coefficients"));
-        b.coefficients = fromRows(h5::readDoubles(f, "coefficients"), cs[0], cs[1]);
-        b.snapshots = static_cast<size_t>(b.eigenvalues.size());
+        m.basis = readBasis(f);
         return m;
     });
 }

@@ -46,6 +46,11 @@ Eigen::MatrixXd stackedFields(const store::SnapshotFile& f, const std::vector<st
 // Throws InputError for an unknown field.
 PodModel buildPod(const store::SnapshotSet& set, const std::vector<std::string>& fields, const PodOptions& options);
 
+// A basis's datasets (weights, field_scales, mean, modes, eigenvalues, coefficients) in a file or
+// group, as the POD file holds them; reduced-model files store their bases the same way.
+void writeBasis(hid_t loc, const PodBasis& b);
+PodBasis readBasis(hid_t loc);
+
 void writePod(const PodModel& m, const std::filesystem::path& file);
 // Throws InputError naming the file for anything but a complete POD file of this schema version.
 PodModel readPod(const std::filesystem::path& file);

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "store/h5_io.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
@@ -242,6 +244,24 @@ std::vector<Attr> attrs(hid_t obj) {
         out.push_back(r);
     }
     return out;
+}
+
+void writeFileAtomically(const std::filesystem::path& path, const std::function<void(hid_t)>& fill) {
+    std::filesystem::path tmp = path;
+    tmp += ".tmp." + std::to_string(::getpid());
+    if (!path.parent_path().empty()) std::filesystem::create_directories(path.parent_path());
+    try {
+        {
+            auto f = createFile(tmp);
+            fill(f);
+            H5Fflush(f, H5F_SCOPE_GLOBAL);
+        }
+        std::filesystem::rename(tmp, path);
+    } catch (...) {
+        std::error_code ec;
+        std::filesystem::remove(tmp, ec);
+        throw;
+    }
 }
 
 std::vector<std::string> members(hid_t group) {

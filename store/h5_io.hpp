@@ -2,6 +2,7 @@
 // The few HDF5 operations snapshots need, over the C API with handles that close themselves.
 // Every failure becomes a std::runtime_error naming the object, never a printed HDF5 error stack.
 #pragma once
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <cstdint>
 #include <filesystem>
@@ -38,6 +39,9 @@ private:
 Handle createFile(const std::filesystem::path& path);
 // Throws with "truncated or corrupt" in the message when the file cannot be opened.
 Handle openFile(const std::filesystem::path& path);
+// Writes a whole file under a temporary name (fill gets the open file) and renames it into place,
+// so a file under its final name is complete; on any error the temporary file is removed.
+void writeFileAtomically(const std::filesystem::path& path, const std::function<void(hid_t file)>& fill);
 Handle createGroup(hid_t loc, const std::string& name);
 Handle openGroup(hid_t loc, const std::string& name);
 Handle openDataset(hid_t loc, const std::string& name);

@@ -187,11 +187,9 @@ nlohmann::json exportSnapshots(const SnapshotExport& e) {
             if (r.contains(k)) solverProvenance[k] = r[k];
     }
 
-    const fs::path tmp = out.string() + ".tmp." + std::to_string(::getpid());
     std::vector<std::pair<std::string, int>> written;
     std::vector<double> timeValues;
-    try {
-        auto file = h5::createFile(tmp);
+    h5::writeFileAtomically(out, [&](hid_t file) {
         h5::attr(file, "schema", std::string(store::kSnapshotSchema));
         h5::attr(file, "schema_version", static_cast<long long>(store::kSnapshotSchemaVersion));
         h5::attr(file, "mixload_version", std::string(kVersion));
@@ -328,12 +326,7 @@ nlohmann::json exportSnapshots(const SnapshotExport& e) {
                     H5Lcreate_hard(hg, name.c_str(), file, "/loading", H5P_DEFAULT, H5P_DEFAULT);
             }
         }
-        H5Fflush(file, H5F_SCOPE_GLOBAL);
-    } catch (...) {
-        fs::remove(tmp);
-        throw;
-    }
-    fs::rename(tmp, out);
+    });
     fs::path xdmf = out;
     xdmf.replace_extension(".xmf");
     writeXdmf(xdmf, out.filename().string(), timeValues, mesh.nCells, written, e.float64, moving);

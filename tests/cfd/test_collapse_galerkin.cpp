@@ -35,6 +35,24 @@ fs::path collapse(const std::string& name, const std::vector<std::string>& extra
     return h5;
 }
 
+// `rom build` of the training files to a model file (extra build options), then `rom check` of runs
+// against it (extra run options): the check's output.
+CliResult buildAndCheck(const std::vector<fs::path>& train, const std::vector<fs::path>& runs,
+                        const std::vector<std::string>& buildArgs, const std::vector<std::string>& checkArgs = {}) {
+    static int n = 0;
+    const fs::path model = scratchDir("galerkin-model-" + std::to_string(n++)) / "model.h5";
+    std::vector<std::string> b{"rom", "build", "-o", model.string(), "--json"};
+    for (const auto& f : train) b.push_back(f.string());
+    b.insert(b.end(), buildArgs.begin(), buildArgs.end());
+    const auto built = runMixload(b);
+    EXPECT_EQ(built.rc, 0) << built.err;
+    if (built.rc != 0) return built;
+    std::vector<std::string> c{"rom", "check", model.string(), "--json"};
+    for (const auto& f : runs) c.push_back(f.string());
+    c.insert(c.end(), checkArgs.begin(), checkArgs.end());
+    return runMixload(c);
+}
+
 // The quartz run, once per test process (ctest runs each test in its own).
 fs::path snapshots() {
     static const fs::path h5 = collapse("quartz");
@@ -75,9 +93,9 @@ TEST(CollapseGalerkin, PartsHoldOnTheRealMesh) {
 TEST(CollapseGalerkin, ReproducesTheRunItWasBuiltOn) {
     const auto h5 = snapshots();
     for (const bool reducedAlpha : {false, true}) {
-        std::vector<std::string> args{"rom", "galerkin", h5.string(), "--modes", "10", "--json"};
+        std::vector<std::string> args{"--modes", "10"};
         if (reducedAlpha) args.push_back("--reduced-alpha");
-        const auto r = runMixload(args);
+        const auto r = buildAndCheck({h5}, {h5}, args);
         ASSERT_EQ(r.rc, 0) << r.err;
         const auto j = nlohmann::json::parse(r.out);
         std::cout << (reducedAlpha ? "reduced alpha" : "alpha on the mesh") << ": L*f " << j["runout_star"] << " (full "
@@ -102,7 +120,7 @@ TEST(CollapseGalerkin, StopsWithAnErrorWhenItBreaksItsBounds) {
     const auto h5 = snapshots();
     // The van Leer transport loses nothing but round-off and the clipped overshoots: a tolerance
     // far below that must stop the model, naming the cause, with no result printed.
-    const auto r = runMixload({"rom", "galerkin", h5.string(), "--modes", "4", "--mass-tolerance", "1e-15", "--json"});
+    const auto r = buildAndCheck({h5}, {h5}, {"--modes", "4"}, {"--mass-tolerance", "1e-15"});
     EXPECT_EQ(r.rc, 1);
     EXPECT_NE(r.err.find("unstable"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("powder volume drifted"), std::string::npos) << r.err;
@@ -111,12 +129,33 @@ TEST(CollapseGalerkin, StopsWithAnErrorWhenItBreaksItsBounds) {
 
 TEST(CollapseGalerkin, RefusesBadOptions) {
     const auto h5 = snapshots();
+    const fs::path dir = scratchDir("galerkin-bad");
     for (const auto& [opt, val] : std::vector<std::pair<std::string, std::string>>{
-             {"--courant", "0.9"}, {"--modes", "-1"}, {"--train-every", "0"}, {"--mass-tolerance", "0"}}) {
-        const auto r = runMixload({"rom", "galerkin", h5.string(), opt, val});
+             {"--modes", "-1"}, {"--train-every", "0"}, {"--energy", "0"}}) {
+        const auto r = runMixload({"rom", "build", h5.string(), "-o", (dir / "m.h5").string(), opt, val});
+        EXPECT_EQ(r.rc, 2) << opt << ' ' << r.err;
+        EXPECT_NE(r.err.find(opt.substr(2)), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(dir / "m.h5"));
+    }
+    const fs::path model = dir / "model.h5";
+    ASSERT_EQ(runMixload({"rom", "build", h5.string(), "-o", model.string(), "--modes", "4"}).rc, 0);
+    for (const auto& [opt, val] : std::vector<std::pair<std::string, std::string>>{
+             {"--courant", "0.9"}, {"--mass-tolerance", "0"}, {"--pressure", "hydrostatic"}}) {
+        const auto r = runMixload({"rom", "check", model.string(), h5.string(), opt, val});
         EXPECT_EQ(r.rc, 2) << opt << ' ' << r.err;
         EXPECT_NE(r.err.find(opt.substr(2)), std::string::npos) << r.err;
     }
+    const auto r = runMixload({"rom", "run", model.string(), "--mu-s", "1.3", "--mu-d", "1.2", "--i0", "0.3"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_NE(r.err.find("mu-d"), std::string::npos) << r.err;
+    // A snapshot file is not a model file, and a truncated model file is refused by name.
+    const auto notModel = runMixload({"rom", "check", h5.string(), h5.string()});
+    EXPECT_EQ(notModel.rc, 2);
+    EXPECT_NE(notModel.err.find("mixload-rom-collapse"), std::string::npos) << notModel.err;
+    fs::resize_file(model, fs::file_size(model) / 2);
+    const auto cut = runMixload({"rom", "run", model.string(), "--mu-s", "1.3", "--mu-d", "1.6", "--i0", "0.3"});
+    EXPECT_EQ(cut.rc, 2);
+    EXPECT_NE(cut.err.find(model.string()), std::string::npos) << cut.err;
 }
 
 TEST(CollapseGalerkin, PredictsARunItNeverSaw) {
@@ -124,7 +163,7 @@ TEST(CollapseGalerkin, PredictsARunItNeverSaw) {
     const auto a = collapse("train-a", {"--mu-s", "0.8", "--mu-d", "1.1", "--i0", "0.35"});
     const auto b = collapse("train-b", {"--mu-s", "1.3", "--mu-d", "1.8", "--i0", "0.25"});
     const auto held = collapse("held", {"--mu-s", "1.0", "--mu-d", "1.4", "--i0", "0.3"});
-    const auto r = runMixload({"rom", "galerkin", a.string(), b.string(), "--check", held.string(), "--modes", "10", "--json"});
+    const auto r = buildAndCheck({a, b}, {held}, {"--modes", "10"});
     ASSERT_EQ(r.rc, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
     std::cout << "held out: L*f " << j["runout_star"] << " (full " << j["runout_star_full"] << "), H*f " << j["height_star"]
@@ -138,13 +177,13 @@ TEST(CollapseGalerkin, PredictsARunItNeverSaw) {
 
     // A run on another mesh cannot share the bases.
     const auto other = collapse("coarser", {}, "6");
-    const auto bad = runMixload({"rom", "galerkin", a.string(), other.string()});
+    const auto bad = runMixload({"rom", "build", a.string(), other.string(), "-o", (scratchDir("two-meshes") / "m.h5").string()});
     EXPECT_EQ(bad.rc, 2);
     EXPECT_NE(bad.err.find("one mesh"), std::string::npos) << bad.err;
 }
 
 TEST(CollapseGalerkin, RecoveredPressureIsCloserThanTheLithostatic) {
-    const auto r = runMixload({"rom", "galerkin", snapshots().string(), "--modes", "10", "--pressure", "recovered", "--json"});
+    const auto r = buildAndCheck({snapshots()}, {snapshots()}, {"--modes", "10"}, {"--pressure", "recovered"});
     ASSERT_EQ(r.rc, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
     std::cout << "pressure error in the powder: recovered " << j["pressure_error_mean"] << ", lithostatic on the stored fields "
@@ -178,4 +217,30 @@ TEST(CollapseGalerkin, BenchmarkComparesTheMethodsOnHeldOutRuns) {
     const auto bad = runMixload({"bench", "rom", "--held-out", "1.0:1.4", "--out", (out / "bad").string()});
     EXPECT_EQ(bad.rc, 2);
     EXPECT_NE(bad.err.find("held-out"), std::string::npos) << bad.err;
+}
+
+TEST(CollapseGalerkin, ModelFileRunsWithoutItsSnapshots) {
+    // Built, the training snapshots removed, the model predicts from its file alone; the same
+    // coefficients as the training run give what the check of that run gives at the same time.
+    const fs::path dir = scratchDir("galerkin-file");
+    const fs::path h5 = dir / "train.h5", model = dir / "model.h5";
+    fs::copy_file(snapshots(), h5);
+    ASSERT_EQ(runMixload({"rom", "build", h5.string(), "-o", model.string(), "--modes", "10"}).rc, 0);
+    const auto c = runMixload({"rom", "check", model.string(), h5.string(), "--json"});
+    ASSERT_EQ(c.rc, 0) << c.err;
+    const auto check = nlohmann::json::parse(c.out);
+    fs::remove(h5);
+    const double endTstar = check["times"].back()["t"].get<double>() / std::sqrt(0.1 / 9.81);
+    std::ostringstream end;
+    end.precision(17);
+    end << endTstar;
+    const auto r = runMixload({"rom", "run", model.string(), "--mu-s", "1.33", "--mu-d", "1.69", "--i0", "0.3", "--end-tstar",
+                               end.str(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    std::cout << "run: L*f " << j["runout_star"] << " (check " << check["runout_star"] << "), " << j["online_seconds"] << " s\n";
+    EXPECT_NEAR(j["runout_star"].get<double>(), check["runout_star"].get<double>(), 0.02);
+    EXPECT_NEAR(j["height_star"].get<double>(), check["height_star"].get<double>(), 0.005);
+    EXPECT_GT(j["history"].size(), 100u);
+    EXPECT_LT(std::abs(j["powder_volume_change"].get<double>()), 0.01);
 }
