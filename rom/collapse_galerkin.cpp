@@ -153,23 +153,23 @@ class Model {
         const Eigen::VectorXd mu =
             (z.alpha.array() * r_.law.rho * nu1.array() + (1 - z.alpha.array()) * r_.airRho * r_.airNu).matrix();
         const Eigen::VectorXd muF = interpolate(m_, mu, ownerValues(m_, mu));
-        // The explicit part of interFoam's divDevRhoReff: mu dev2(grad(U)^T), as a face vector Sf . T.
+        // The explicit part of interFoam's divDevRhoReff: div(mu dev2(grad(U)^T)), the face vector
+        // Sf . T_f with T linearly interpolated (owner value on boundary faces), in one pass.
+        std::vector<Eigen::Matrix3d> T(static_cast<size_t>(m_.cells));
+        for (Eigen::Index c = 0; c < m_.cells; ++c) {
+            Eigen::Matrix3d g;  // g(i, j) = dU_j/dx_i, OpenFOAM's grad(U)
+            for (int j = 0; j < 3; ++j) g.col(j) = G[static_cast<size_t>(j)].row(c).transpose();
+            T[static_cast<size_t>(c)] = mu[c] * (g.transpose() - 2.0 / 3.0 * g.trace() * Eigen::Matrix3d::Identity());
+        }
         std::array<Eigen::VectorXd, 3> tf;
-        {
-            std::array<std::array<Eigen::VectorXd, 3>, 3> T;  // T[i][j] per cell
-            for (int i = 0; i < 3; ++i)
-                for (int j = 0; j < 3; ++j) T[i][j].resize(m_.cells);
-            for (Eigen::Index c = 0; c < m_.cells; ++c) {
-                const double tr = G[0](c, 0) + G[1](c, 1) + G[2](c, 2);
-                for (int i = 0; i < 3; ++i)
-                    for (int j = 0; j < 3; ++j)  // (grad U)^T(i, j) = dU_i/dx_j = G[i](c, j)
-                        T[i][j][c] = mu[c] * (G[i](c, j) - (i == j ? 2.0 / 3.0 * tr : 0.0));
-            }
-            for (int j = 0; j < 3; ++j) {
-                tf[j] = Eigen::VectorXd::Zero(m_.faces());
-                for (int i = 0; i < 3; ++i)
-                    tf[j] += m_.Sf.col(i).cwiseProduct(interpolate(m_, T[i][j], ownerValues(m_, T[i][j])));
-            }
+        for (auto& v : tf) v.resize(m_.faces());
+        for (Eigen::Index f = 0; f < m_.faces(); ++f) {
+            const auto& To = T[static_cast<size_t>(m_.owner[f])];
+            const Eigen::Matrix3d Tf = f < m_.internalFaces
+                                           ? Eigen::Matrix3d(m_.weights[f] * To + (1 - m_.weights[f]) * T[static_cast<size_t>(m_.neighbour[f])])
+                                           : To;
+            const Eigen::RowVector3d st = m_.Sf.row(f) * Tf;
+            for (int j = 0; j < 3; ++j) tf[static_cast<size_t>(j)][f] = st[j];
         }
         Vectors A(m_.cells, 3);
         for (int j = 0; j < 3; ++j) {

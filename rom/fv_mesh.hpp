@@ -28,6 +28,7 @@ struct FvMesh {
     Eigen::VectorXd weights;                // internal faces: owner's share of linear interpolation
     Eigen::VectorXd deltaCoeffs;            // all faces: 1 / |n . d| (boundary), 1/max(n.d, 0.05|d|) (internal)
     Vectors corrVecs;                       // internal faces: n - d * deltaCoeffs
+    bool orthogonal = false;                // correction vectors at round-off: Laplacians skip the correction
     struct Patch {
         std::string name, type;
         Eigen::Index start = 0, size = 0;   // in operator order

@@ -31,10 +31,11 @@ Eigen::VectorXd div(const FvMesh& m, const Eigen::VectorXd& flux) {
         throw std::invalid_argument("fv div: " + std::to_string(flux.size()) + " face values for " +
                                     std::to_string(m.faces()) + " faces");
     Eigen::VectorXd d = Eigen::VectorXd::Zero(m.cells);
-    for (Eigen::Index i = 0; i < m.faces(); ++i) {
+    for (Eigen::Index i = 0; i < m.internalFaces; ++i) {
         d[m.owner[i]] += flux[i];
-        if (i < m.internalFaces) d[m.neighbour[i]] -= flux[i];
+        d[m.neighbour[i]] -= flux[i];
     }
+    for (Eigen::Index i = m.internalFaces; i < m.faces(); ++i) d[m.owner[i]] += flux[i];
     return d.cwiseQuotient(m.V);
 }
 
@@ -53,14 +54,17 @@ Eigen::VectorXd laplacian(const FvMesh& m, const Eigen::VectorXd& cells, const E
 Eigen::VectorXd laplacian(const FvMesh& m, const Eigen::VectorXd& gamma, const Eigen::VectorXd& cells,
                           const Eigen::VectorXd& boundary) {
     if (gamma.size() != m.faces()) throw std::invalid_argument("fv laplacian: diffusivity not given on every face");
-    const Vectors g = grad(m, cells, boundary);
     Eigen::VectorXd flux(m.faces());
-    for (Eigen::Index i = 0; i < m.internalFaces; ++i) {
-        const auto o = m.owner[i], n = m.neighbour[i];
-        const double w = m.weights[i];
+    for (Eigen::Index i = 0; i < m.internalFaces; ++i)
+        flux[i] = gamma[i] * m.magSf[i] * m.deltaCoeffs[i] * (cells[m.neighbour[i]] - cells[m.owner[i]]);
+    if (!m.orthogonal) {
         // correctedSnGrad: the orthogonal part plus the correction from the interpolated gradient.
-        const Eigen::RowVector3d gf = w * g.row(o) + (1 - w) * g.row(n);
-        flux[i] = gamma[i] * m.magSf[i] * (m.deltaCoeffs[i] * (cells[n] - cells[o]) + m.corrVecs.row(i).dot(gf));
+        const Vectors g = grad(m, cells, boundary);
+        for (Eigen::Index i = 0; i < m.internalFaces; ++i) {
+            const double w = m.weights[i];
+            const Eigen::RowVector3d gf = w * g.row(m.owner[i]) + (1 - w) * g.row(m.neighbour[i]);
+            flux[i] += gamma[i] * m.magSf[i] * m.corrVecs.row(i).dot(gf);
+        }
     }
     for (Eigen::Index i = m.internalFaces; i < m.faces(); ++i)
         flux[i] = gamma[i] * m.magSf[i] * m.deltaCoeffs[i] * (boundary[i - m.internalFaces] - cells[m.owner[i]]);
