@@ -73,7 +73,9 @@ void addBenchRom(CLI::App* bench, Action& action) {
                       << j["pressure"].get<std::string>() << " pressure\n"
                       << "  mean time per answer: full " << j["mean_seconds"]["full"].get<double>() << " s, Galerkin "
                       << j["mean_seconds"]["galerkin"].get<double>() << " s (" << j["speedup"]["galerkin"].get<double>()
-                      << "x), kriging " << j["mean_seconds"]["kriging"].get<double>() << " s ("
+                      << "x), POD regression " << j["mean_seconds"]["pod_regression"].get<double>() << " s ("
+                      << j["speedup"]["pod_regression"].get<double>() << "x), kriging "
+                      << j["mean_seconds"]["kriging"].get<double>() << " s ("
                       << j["speedup"]["kriging"].get<double>() << "x)\n  offline: training runs "
                       << j["offline"]["full_runs_seconds"].get<double>() << " s, Galerkin build "
                       << j["offline"]["galerkin_build_seconds"].get<double>() << " s; break-even after "

@@ -12,6 +12,7 @@
 #include "common/input_error.hpp"
 #include "kriging/kriging.hpp"
 #include "post/snapshots.hpp"
+#include "rom/pod_regression.hpp"
 #include "run/collapse_job.hpp"
 #include "store/snapshot_file.hpp"
 
@@ -116,8 +117,19 @@ nlohmann::json runRomBench(const RomBench& b) {
     const auto kL = surrogates::Kriging::fit(X, yL, ko), kH = surrogates::Kriging::fit(X, yH, ko);
     const double krigingFit = since(t0);
 
+    // POD regression of the final deposit: the last stored alpha of each training run.
+    t0 = Clock::now();
+    const auto& mesh = model.mesh;
+    Eigen::MatrixXd finals(mesh.cells, nT), Xraw(nT, 3);
+    for (Eigen::Index i = 0; i < nT; ++i) {
+        finals.col(i) = files[static_cast<size_t>(i)].column("alpha", files[static_cast<size_t>(i)].times().size() - 1);
+        Xraw.row(i) = raw(train[static_cast<size_t>(i)].point).transpose();
+    }
+    const auto regression = rom::PodRegression::fit(Xraw, finals, mesh.V, 0);
+    const double regressionFit = since(t0);
+
     nlohmann::json rows = nlohmann::json::array();
-    double fullMean = 0, romMean = 0, krigMean = 0;
+    double fullMean = 0, romMean = 0, krigMean = 0, regMean = 0;
     for (const auto& r : held) {
         say("predicting " + label(r.point));
         const store::SnapshotFile f(r.snapshots);
@@ -134,6 +146,19 @@ nlohmann::json runRomBench(const RomBench& b) {
         }
         const double krigSeconds = since(t0) / reps;
         const double Lf = r.result["runout_star"], Hf = r.result["height_star"];
+        t0 = Clock::now();
+        Eigen::VectorXd alphaReg;
+        double Lreg = 0, Hreg = 0;
+        const int regReps = 100;
+        for (int k = 0; k < regReps; ++k) {
+            alphaReg = regression.predict(raw(r.point));
+            Lreg = model.shape.runoutStar(mesh, alphaReg);
+            Hreg = model.shape.heightStar(mesh, alphaReg);
+        }
+        const double regSeconds = since(t0) / regReps;
+        const Eigen::VectorXd alphaFinal = f.column("alpha", f.times().size() - 1);
+        const double regAlphaError = std::sqrt((alphaReg - alphaFinal).cwiseAbs2().dot(mesh.V) / alphaFinal.cwiseAbs2().dot(mesh.V));
+        regMean += regSeconds / static_cast<double>(held.size());
         const double full = r.result["wall_seconds"];
         fullMean += full / static_cast<double>(held.size());
         romMean += c["online_seconds"].get<double>() / static_cast<double>(held.size());
@@ -151,6 +176,13 @@ nlohmann::json runRomBench(const RomBench& b) {
                           {"alpha_error", c["alpha_error_mean"]},
                           {"u_error", c["u_error_mean"]},
                           {"u_projection_error", c["u_projection_error_mean"]}}},
+                        {"pod_regression",
+                         {{"seconds", regSeconds},
+                          {"runout_star", Lreg},
+                          {"height_star", Hreg},
+                          {"runout_error", (Lreg - Lf) / Lf},
+                          {"height_error", (Hreg - Hf) / Hf},
+                          {"final_alpha_error", regAlphaError}}},
                         {"kriging",
                          {{"seconds", krigSeconds},
                           {"runout_star", L},
@@ -173,34 +205,46 @@ nlohmann::json runRomBench(const RomBench& b) {
                         {{"full_runs_seconds", offlineFull},
                          {"export_seconds", offlineExport},
                          {"galerkin_build_seconds", model.buildSeconds},
-                         {"kriging_fit_seconds", krigingFit}}},
-                       {"mean_seconds", {{"full", fullMean}, {"galerkin", romMean}, {"kriging", krigMean}}},
-                       {"speedup", {{"galerkin", fullMean / romMean}, {"kriging", fullMean / krigMean}}},
-                       {"break_even_answers", {{"galerkin", breakEven(romOffline, romMean)}, {"kriging", breakEven(krigOffline, krigMean)}}},
+                         {"kriging_fit_seconds", krigingFit},
+                         {"pod_regression_fit_seconds", regressionFit}}},
+                       {"pod_regression_modes", regression.modes()},
+                       {"mean_seconds", {{"full", fullMean}, {"galerkin", romMean}, {"pod_regression", regMean}, {"kriging", krigMean}}},
+                       {"speedup", {{"galerkin", fullMean / romMean}, {"pod_regression", fullMean / regMean}, {"kriging", fullMean / krigMean}}},
+                       {"break_even_answers",
+                        {{"galerkin", breakEven(romOffline, romMean)},
+                         {"pod_regression", breakEven(offlineFull + regressionFit, regMean)},
+                         {"kriging", breakEven(krigOffline, krigMean)}}},
                        {"rows", rows}};
 
     // Table and plot: error against online time per held-out run and method.
     std::ostringstream md, csv, dat;
-    md << "| held-out (mu_s, mu_d, I0) | full L*f, H*f (s) | Galerkin L*f, H*f error (s) | kriging L*f, H*f error (s) |\n|---|---|---|---|\n";
-    csv << "mu_s,mu_d,i0,full_s,runout_full,height_full,galerkin_s,galerkin_runout_error,galerkin_height_error,galerkin_alpha_error,kriging_s,kriging_runout_error,kriging_height_error\n";
+    md << "| held-out (mu_s, mu_d, I0) | full L*f, H*f (s) | Galerkin L*f, H*f error (s) | POD regression L*f, H*f error (s) | "
+          "kriging L*f, H*f error (s) |\n|---|---|---|---|---|\n";
+    csv << "mu_s,mu_d,i0,full_s,runout_full,height_full,galerkin_s,galerkin_runout_error,galerkin_height_error,galerkin_alpha_error,"
+           "regression_s,regression_runout_error,regression_height_error,regression_final_alpha_error,kriging_s,kriging_runout_error,"
+           "kriging_height_error\n";
     md << std::setprecision(4);
     csv << std::setprecision(8);
     for (const auto& r : rows) {
         const auto& g = r["galerkin"];
         const auto& k = r["kriging"];
+        const auto& p = r["pod_regression"];
         md << "| (" << r["mu_s"].get<double>() << ", " << r["mu_d"].get<double>() << ", " << r["i0"].get<double>() << ") | "
            << r["full"]["runout_star"].get<double>() << ", " << r["full"]["height_star"].get<double>() << " ("
            << r["full"]["seconds"].get<double>() << ") | " << 100 * g["runout_error"].get<double>() << "%, "
            << 100 * g["height_error"].get<double>() << "% (" << g["seconds"].get<double>() << ") | "
-           << 100 * k["runout_error"].get<double>() << "%, " << 100 * k["height_error"].get<double>() << "% ("
+           << 100 * p["runout_error"].get<double>() << "%, " << 100 * p["height_error"].get<double>() << "% ("
+           << p["seconds"].get<double>() << ") | " << 100 * k["runout_error"].get<double>() << "%, " << 100 * k["height_error"].get<double>() << "% ("
            << k["seconds"].get<double>() << ") |\n";
         csv << r["mu_s"] << ',' << r["mu_d"] << ',' << r["i0"] << ',' << r["full"]["seconds"] << ',' << r["full"]["runout_star"]
             << ',' << r["full"]["height_star"] << ',' << g["seconds"] << ',' << g["runout_error"] << ',' << g["height_error"]
-            << ',' << g["alpha_error"] << ',' << k["seconds"] << ',' << k["runout_error"] << ',' << k["height_error"] << '\n';
+            << ',' << g["alpha_error"] << ',' << p["seconds"] << ',' << p["runout_error"] << ',' << p["height_error"] << ','
+            << p["final_alpha_error"] << ',' << k["seconds"] << ',' << k["runout_error"] << ',' << k["height_error"] << '\n';
         dat << g["seconds"].get<double>() << ' ' << std::abs(g["runout_error"].get<double>()) << ' '
             << std::abs(g["height_error"].get<double>()) << ' ' << k["seconds"].get<double>() << ' '
             << std::abs(k["runout_error"].get<double>()) << ' ' << std::abs(k["height_error"].get<double>()) << ' '
-            << r["full"]["seconds"].get<double>() << '\n';
+            << r["full"]["seconds"].get<double>() << ' ' << p["seconds"].get<double>() << ' '
+            << std::abs(p["runout_error"].get<double>()) << ' ' << std::abs(p["height_error"].get<double>()) << '\n';
     }
     writeFileAtomic(b.out / "table.md", md.str());
     writeFileAtomic(b.out / "table.csv", csv.str());
@@ -213,6 +257,7 @@ nlohmann::json runRomBench(const RomBench& b) {
        << "set yrange [5e-5:1]\nset arrow from graph 0, first 0.05 to graph 1, first 0.05 nohead dt 2\n"
        << "plot 'rom-bench.dat' u 1:2 w p pt 7 ps 1.3 t 'POD-Galerkin, L*f', '' u 1:3 w p pt 6 ps 1.3 t 'POD-Galerkin, H*f', "
        << "'' u 4:5 w p pt 5 ps 1.3 t 'kriging, L*f', '' u 4:6 w p pt 4 ps 1.3 t 'kriging, H*f', "
+       << "'' u 8:9 w p pt 13 ps 1.3 t 'POD regression, L*f', '' u 8:10 w p pt 12 ps 1.3 t 'POD regression, H*f', "
        << "'' u 7:(1e-4) w p pt 9 ps 1.5 t 'full run (reference, drawn at 1e-4)'\n";
     const std::string warn = runGnuplot(b.out, "rom-bench.gp", gp.str());
     out["table"] = (b.out / "table.md").string();

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The reduced models' benchmark on the collapse (issue 15): full runs at training points and at
-// held-out points (the reference), the POD-Galerkin model built on the training runs' snapshots, and
-// a kriging model of L*f and H*f fitted to the same training runs, each predicting the held-out runs.
+// held-out points (the reference), the POD-Galerkin model built on the training runs' snapshots, a POD
+// regression of the final deposit (rom/pod_regression) and a kriging model of L*f and H*f fitted to
+// the same training runs, each predicting the held-out runs.
 // Per method: the online time per answer, the error in L*f and H*f (and in the fields for the
 // Galerkin model, beside the projection error that bounds it), the offline cost and the number of
 // answers after which a method has paid for it. Everything runs in this one process; full runs

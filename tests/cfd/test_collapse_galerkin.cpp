@@ -210,6 +210,9 @@ TEST(CollapseGalerkin, BenchmarkComparesTheMethodsOnHeldOutRuns) {
     EXPECT_LT(std::abs(row["galerkin"]["runout_error"].get<double>()), 0.10);
     EXPECT_TRUE(std::isfinite(row["kriging"]["runout_error"].get<double>()));
     EXPECT_LT(row["kriging"]["seconds"].get<double>(), 1e-3);
+    EXPECT_LT(row["pod_regression"]["seconds"].get<double>(), 1e-2);
+    EXPECT_LT(row["pod_regression"]["final_alpha_error"].get<double>(), 0.5);
+    EXPECT_TRUE(std::isfinite(row["pod_regression"]["runout_error"].get<double>()));
     EXPECT_GT(j["offline"]["full_runs_seconds"].get<double>(), 0.0);
     EXPECT_TRUE(fs::exists(out / "table.md"));
     EXPECT_TRUE(fs::exists(out / "table.csv"));
