@@ -10,6 +10,7 @@
 
 #include "rom/deim.hpp"
 #include "rom/pod.hpp"
+#include "rom/pod_regression.hpp"
 
 using namespace mixload::rom;
 
@@ -145,4 +146,24 @@ TEST(Deim, ExactInTheSpanOfItsBasisWithDistinctPoints) {
     const Eigen::VectorXd miss = g - q * (q.transpose() * g);
     EXPECT_LE(deim.relativeError(g) * g.norm(), (1 + deim.pInverse.norm()) * miss.norm() + 1e-12);
     EXPECT_THROW(buildDeim(Eigen::MatrixXd(q.leftCols(2).replicate(1, 2))), std::invalid_argument);
+}
+
+TEST(PodRegression, ReproducesItsRunsAndInterpolatesASmoothFamily) {
+    // Fields f(x) = b0 + x0 b1 + x0 x1 b2 on 12 runs in [0, 1]^2: three modes span them.
+    const Eigen::Index rows = 50, runs = 12;
+    Eigen::MatrixXd b = Eigen::MatrixXd::Random(rows, 3);
+    Eigen::MatrixXd X(runs, 2), F(rows, runs);
+    for (Eigen::Index i = 0; i < runs; ++i) {
+        X(i, 0) = (i % 4) / 3.0;
+        X(i, 1) = (i / 4) / 2.0;
+        F.col(i) = b.col(0) + X(i, 0) * b.col(1) + X(i, 0) * X(i, 1) * b.col(2);
+    }
+    const auto r = mixload::rom::PodRegression::fit(X, F, Eigen::VectorXd::Ones(rows), 0);
+    EXPECT_LE(r.modes(), 3);
+    for (Eigen::Index i = 0; i < runs; ++i)
+        EXPECT_LT((r.predict(X.row(i).transpose()) - F.col(i)).norm(), 1e-3 * F.col(i).norm()) << i;
+    const Eigen::Vector2d x(0.5, 0.6);
+    const Eigen::VectorXd exact = b.col(0) + x[0] * b.col(1) + x[0] * x[1] * b.col(2);
+    EXPECT_LT((r.predict(x) - exact).norm(), 0.05 * exact.norm());
+    EXPECT_THROW(mixload::rom::PodRegression::fit(X.topRows(3), F, Eigen::VectorXd::Ones(rows), 0), std::invalid_argument);
 }
