@@ -49,8 +49,8 @@ TEST(MixerScene, DefaultSceneCarriesItsNumericsAndSteadyTest) {
     EXPECT_DOUBLE_EQ(v2.geometry.weirChordDeg, 70.0);
     EXPECT_DOUBLE_EQ(v2.geometry.inletHeight, -0.035);
     EXPECT_DOUBLE_EQ(v2.numerics.courantAlphaMin, 0.05);
-    EXPECT_DOUBLE_EQ(v2.endTime, 900.0);
-    EXPECT_DOUBLE_EQ(v2.steadyResidence, 0.25);
+    EXPECT_DOUBLE_EQ(v2.endTime, 1200.0);
+    EXPECT_DOUBLE_EQ(v2.steadyResidence, 0.5);
     EXPECT_DOUBLE_EQ(v2.steadyTol, 0.01);
     EXPECT_DOUBLE_EQ(v2.steadyFlowTol, 0.03);
     EXPECT_DOUBLE_EQ(v2.cellSize, 0.01);
