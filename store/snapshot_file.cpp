@@ -118,7 +118,7 @@ nlohmann::json SnapshotFile::info(bool verify) const {
         j["faces"] = h5::shape(h5::openDataset(file_, "/mesh/owner"))[0];
         j["mesh_fingerprint"] = meshFingerprint();
         nlohmann::json ds = nlohmann::json::array();
-        for (const char* g : {"mesh", "fields", "history"}) {
+        for (const char* g : {"mesh", "fields", "boundary", "faces", "history"}) {
             if (!h5::exists(file_, g)) continue;
             auto grp = h5::openGroup(file_, g);
             for (const auto& m : h5::members(grp)) {
