@@ -11,6 +11,7 @@
 #include "common/atomic_file.hpp"
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
+#include "rom/campaign_regression.hpp"
 #include "rom/collapse_galerkin.hpp"
 #include "rom/collapse_model_file.hpp"
 #include "rom/pod_model.hpp"
@@ -409,6 +410,42 @@ void addRom(CLI::App& app, Action& action) {
                       << ") by the model " << ro->model << ": L*f " << j["runout_star"].get<double>() << ", H*f "
                       << j["height_star"].get<double>() << " at " << ro->endTstar << " t* (" << j["online_seconds"].get<double>()
                       << " s)\n";
+            return 0;
+        };
+    });
+
+    struct RegressionCmd {
+        std::string campaign, dir = "runs/campaigns";
+        rom::RegressionCheckOptions opt;
+        bool json = false;
+    };
+    auto rg = std::make_shared<RegressionCmd>();
+    auto* reg = cmd->add_subcommand(
+        "regression", "POD regression of a campaign's final powder fraction against its inputs, left out one run at a "
+                      "time, beside kriging of the campaign's quantity (M, or L*f and H*f)");
+    reg->add_option("--campaign", rg->campaign, "Campaign whose finished runs kept snapshots (campaign run --snapshots)")->required();
+    reg->add_option("--dir", rg->dir, "Campaign directory")->capture_default_str();
+    reg->add_option("--modes", rg->opt.modes, "POD modes of the field (0: by --energy)")->capture_default_str();
+    reg->add_option("--energy", rg->opt.energy, "Share of the field's fluctuation energy the modes keep")->capture_default_str();
+    reg->add_flag("--json", rg->json, "Print JSON");
+    reg->callback([&action, rg] {
+        action = [rg] {
+            if (rg->opt.modes < 0) throw InputError("modes", std::to_string(rg->opt.modes), "0 (by energy) or more");
+            if (!(rg->opt.energy > 0 && rg->opt.energy <= 1)) throw InputError("energy", std::to_string(rg->opt.energy), "(0, 1]");
+            const auto j = rom::campaignRegressionCheck(fs::path(rg->dir) / rg->campaign / "ledger.sqlite", rg->campaign, rg->opt);
+            if (rg->json) {
+                std::cout << j.dump(2) << '\n';
+                return 0;
+            }
+            std::cout << std::setprecision(3) << "POD regression of " << j["campaign"].get<std::string>() << " ("
+                      << j["scene"].get<std::string>() << ", " << j["runs"] << " runs, " << j["cells"] << " cells, inputs "
+                      << j["inputs"].dump() << "), each run left out in turn\n  final alpha error mean "
+                      << j["alpha_error_mean"].get<double>() << ", " << 1e3 * j["predict_seconds"].get<double>()
+                      << " ms per prediction\n";
+            for (const auto& [q, s] : j["summary"].items())
+                std::cout << "  " << q << ": mean |error| POD regression " << 100 * s["pod_regression_mean_abs_error"].get<double>()
+                          << "%, kriging " << 100 * s["kriging_mean_abs_error"].get<double>() << "% (the stored field itself "
+                          << 100 * s["stored_field_mean_abs_error"].get<double>() << "%)\n";
             return 0;
         };
     });

@@ -1,0 +1,27 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// POD regression checked on a campaign: the last stored powder fraction of every finished run
+// (campaign run --snapshots) against the run's design inputs, left out one run at a time. For each
+// run, the field is predicted from all the others (rom/pod_regression) and so is the campaign's
+// quantity, by kriging on the same runs (the surrogates' way): the mixer's loading M = rho sum
+// alpha V, or the collapse's L*f and H*f. The table says which predicts the held-out run better,
+// and how far the predicted field is from the run's.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace mixload::rom {
+
+struct RegressionCheckOptions {
+    int modes = 0;           // POD modes of the field (0: by energy)
+    double energy = 0.9999;
+};
+
+// Throws InputError for a campaign without at least three finished runs with snapshots, runs on
+// different meshes, or inputs that do not vary.
+nlohmann::json campaignRegressionCheck(const std::filesystem::path& ledger, const std::string& campaign,
+                                       const RegressionCheckOptions& options);
+
+}  // namespace mixload::rom
