@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "app/commands.hpp"
+#include "common/clock.hpp"
 #include "common/atomic_file.hpp"
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
@@ -161,7 +162,7 @@ void addRom(CLI::App& app, Action& action) {
             const store::SnapshotSet set(files);
             const auto m = rom::buildPod(set, o->fields, opt);
             rom::writePod(m, o->output);
-            const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            const double wall = secondsSince(t0);
             const std::string warn = plotSpectrum(m, o->output);
             const auto& b = m.basis;
             std::vector<double> spectrum;

@@ -87,7 +87,7 @@ int fit(const SurrogateCmd& o) {
                                                     " --kind " + o.kind + " --holdout " + std::to_string(o.holdout)}};
     const auto t0 = std::chrono::steady_clock::now();
     auto model = surrogates::Surrogate::fit(train, f, provenance);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double seconds = secondsSince(t0);
     model.save(o.output);
     const auto& v = model.validation();
     nlohmann::json out{{"model", o.output},        {"kind", o.kind},      {"n_train", train.size()},

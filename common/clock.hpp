@@ -9,4 +9,8 @@ namespace mixload {
 std::string utcNow();
 // The instant `hours` from now, or none when hours <= 0 (no limit): a long driver's --max-hours.
 std::optional<std::chrono::steady_clock::time_point> deadlineAfterHours(double hours);
+// Wall seconds since t0 (steady clock): what runs, benchmarks and reduced models time themselves by.
+inline double secondsSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 }  // namespace mixload

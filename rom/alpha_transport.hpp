@@ -13,6 +13,9 @@
 
 namespace mixload::rom {
 
+// The powder fraction clipped into [0, 1], as the densities and the viscosity mixture read it.
+inline Eigen::VectorXd clampFraction(const Eigen::VectorXd& a) { return a.cwiseMax(0.0).cwiseMin(1.0); }
+
 // Boundary values: outflow faces carry their cell's value, inflow faces `inflow` (air enters: 0).
 Eigen::VectorXd alphaBoundary(const FvMesh& m, const Eigen::VectorXd& alpha, const Eigen::VectorXd& flux, double inflow);
 

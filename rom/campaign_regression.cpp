@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "rom/campaign_regression.hpp"
+#include "common/clock.hpp"
 
 #include <chrono>
 #include <cmath>
 
 #include "common/input_error.hpp"
 #include "kriging/kriging.hpp"
+#include "rom/alpha_transport.hpp"
 #include "rom/collapse_shape.hpp"
 #include "rom/fv_mesh.hpp"
 #include "rom/pod_regression.hpp"
@@ -18,9 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-Eigen::VectorXd clamp01(const Eigen::VectorXd& a) { return a.cwiseMax(0.0).cwiseMin(1.0); }
 
 // Leave-one-out rows of X and y.
 Eigen::MatrixXd without(const Eigen::MatrixXd& m, Eigen::Index i) {
@@ -79,7 +79,7 @@ nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string
     }
     // What the field says of the run: the instantaneous loading or the deposit's runout and height.
     const auto quantities = [&](const Eigen::VectorXd& alpha, size_t i) {
-        if (mixer) return std::vector<double>{rho[i] * clamp01(alpha).dot(V)};
+        if (mixer) return std::vector<double>{rho[i] * clampFraction(alpha).dot(V)};
         return std::vector<double>{shape->runoutStar(mesh, alpha), shape->heightStar(mesh, alpha)};
     };
 
@@ -94,7 +94,7 @@ nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string
         const auto t0 = Clock::now();
         const Eigen::VectorXd alpha = reg.predict(X.row(i).transpose());
         const auto q = quantities(alpha, static_cast<size_t>(i));
-        predictSeconds += since(t0) / static_cast<double>(n);
+        predictSeconds += secondsSince(t0) / static_cast<double>(n);
         const auto qStored = quantities(F.col(i), static_cast<size_t>(i));
         const double aErr = std::sqrt((alpha - F.col(i)).cwiseAbs2().dot(V) / F.col(i).cwiseAbs2().dot(V));
         alphaErr += aErr / static_cast<double>(n);

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "rom/collapse_galerkin.hpp"
+#include "common/clock.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -20,9 +21,7 @@ namespace fs = std::filesystem;
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-Eigen::VectorXd clamp01(const Eigen::VectorXd& a) { return a.cwiseMax(0.0).cwiseMin(1.0); }
 
 // Owner values on the boundary faces (zero gradient).
 Eigen::VectorXd ownerValues(const FvMesh& m, const Eigen::VectorXd& cells) {
@@ -82,7 +81,7 @@ class Model {
 
     Frozen freeze(const Eigen::VectorXd& alphaIn) const {
         Frozen z;
-        z.alpha = clamp01(alphaIn);
+        z.alpha = clampFraction(alphaIn);
         const double rho1 = r_.law.rho, rho2 = r_.airRho;
         z.rhoC = (rho2 + (rho1 - rho2) * z.alpha.array()).matrix();
         z.rhoF = interpolate(m_, z.rhoC, ownerValues(m_, z.rhoC));
@@ -266,7 +265,7 @@ CollapseGalerkin CollapseGalerkin::build(const std::vector<const store::Snapshot
     // product the projection uses (so that the modes rank the powder's motion, not the air's).
     Eigen::VectorXd rhoMean = Eigen::VectorXd::Zero(m.faces());
     for (const auto& [f, i] : cols) {
-        const Eigen::VectorXd a = clamp01(f->column("alpha", i));
+        const Eigen::VectorXd a = clampFraction(f->column("alpha", i));
         const Eigen::VectorXd rho = (r.airRho + (r.law.rho - r.airRho) * a.array()).matrix();
         rhoMean += interpolate(m, rho, ownerValues(m, rho));
     }
@@ -310,7 +309,7 @@ CollapseGalerkin CollapseGalerkin::build(const std::vector<const store::Snapshot
             },
             m.V, pa);
     }
-    r.buildSeconds = since(t0);
+    r.buildSeconds = secondsSince(t0);
     return r;
 }
 
@@ -331,7 +330,7 @@ CollapseTrajectory runCollapseGalerkin(const CollapseGalerkin& rom, const Eigen:
     Frozen z = model.freeze(alpha);
     Eigen::VectorXd a = model.project(z, phi0);
     const double volume0 = alpha.dot(m.V);
-    const double energyBound = model.potentialEnergy(clamp01(alpha));
+    const double energyBound = model.potentialEnergy(clampFraction(alpha));
 
     const Frozen* current = &z;
     CvodeIntegrator ode(
@@ -351,7 +350,7 @@ CollapseTrajectory runCollapseGalerkin(const CollapseGalerkin& rom, const Eigen:
                 alpha = rom.alphaLift + rom.alpha->modes * b;
             } else {
                 alpha = next;
-                const Eigen::VectorXd clipped = clamp01(alpha);
+                const Eigen::VectorXd clipped = clampFraction(alpha);
                 out.clippedVolume += (alpha - clipped).cwiseAbs().dot(m.V);
                 alpha = clipped;
             }
@@ -395,7 +394,7 @@ CollapseTrajectory runCollapseGalerkin(const CollapseGalerkin& rom, const Eigen:
     out.odeSteps = ode.steps();
     out.rhsEvaluations = ode.rhsEvaluations();
     out.jacobianEvaluations = ode.jacobianEvaluations();
-    out.wallSeconds = since(wall0);
+    out.wallSeconds = secondsSince(wall0);
     return out;
 }
 
@@ -427,7 +426,7 @@ nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::Snapsho
     double pErr = 0, nuErr = 0, pModel = 0;
     std::vector<double> pErrAt(times.size()), pModelAt(times.size());
     for (size_t i = 0; i < times.size(); ++i) {
-        const Eigen::VectorXd al = clamp01(f.column("alpha", i));
+        const Eigen::VectorXd al = clampFraction(f.column("alpha", i));
         const Eigen::VectorXd rho = (rom.airRho + (rom.law.rho - rom.airRho) * al.array()).matrix();
         const Eigen::VectorXd p = f.column("p", i), pl = lith(rho);
         const Eigen::VectorXd w = al.cwiseProduct(m.V);
@@ -474,7 +473,7 @@ nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::Snapsho
         const Eigen::VectorXd Ur = rom.cellU * tr.flow[i];
         const double uErr = weightedNorm(Ur - Us[i], wU) / peakU;
         {
-            const Eigen::VectorXd w = clamp01(as).cwiseProduct(m.V), ps = f.column("p", i);
+            const Eigen::VectorXd w = clampFraction(as).cwiseProduct(m.V), ps = f.column("p", i);
             pModelAt[i] = weightedNorm(tr.pressure[i] - ps, w) / weightedNorm(ps, w);
             pModel += pModelAt[i];
         }

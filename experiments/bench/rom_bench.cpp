@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "bench/rom_bench.hpp"
+#include "common/clock.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -23,7 +24,6 @@ namespace fs = std::filesystem;
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 struct FullRun {
     CollapsePoint point;
@@ -51,7 +51,7 @@ FullRun fullRun(const RomBench& b, const CollapsePoint& p, const std::string& na
         e.fields = {"alpha", "U", "p", "phi"};
         e.float64 = true;
         post::exportSnapshots(e);
-        r.exportSeconds = since(t0);
+        r.exportSeconds = secondsSince(t0);
     }
     return r;
 }
@@ -115,7 +115,7 @@ nlohmann::json runRomBench(const RomBench& b) {
     auto t0 = Clock::now();
     surrogates::KrigingOptions ko;
     const auto kL = surrogates::Kriging::fit(X, yL, ko), kH = surrogates::Kriging::fit(X, yH, ko);
-    const double krigingFit = since(t0);
+    const double krigingFit = secondsSince(t0);
 
     // POD regression of the final deposit: the last stored alpha of each training run.
     t0 = Clock::now();
@@ -126,7 +126,7 @@ nlohmann::json runRomBench(const RomBench& b) {
         Xraw.row(i) = raw(train[static_cast<size_t>(i)].point).transpose();
     }
     const auto regression = rom::PodRegression::fit(Xraw, finals, mesh.V, 0);
-    const double regressionFit = since(t0);
+    const double regressionFit = secondsSince(t0);
 
     nlohmann::json rows = nlohmann::json::array();
     double fullMean = 0, romMean = 0, krigMean = 0, regMean = 0;
@@ -144,7 +144,7 @@ nlohmann::json runRomBench(const RomBench& b) {
             L = kL.predictMean(x.data(), ws);
             H = kH.predictMean(x.data(), ws);
         }
-        const double krigSeconds = since(t0) / reps;
+        const double krigSeconds = secondsSince(t0) / reps;
         const double Lf = r.result["runout_star"], Hf = r.result["height_star"];
         t0 = Clock::now();
         Eigen::VectorXd alphaReg;
@@ -155,7 +155,7 @@ nlohmann::json runRomBench(const RomBench& b) {
             Lreg = model.shape.runoutStar(mesh, alphaReg);
             Hreg = model.shape.heightStar(mesh, alphaReg);
         }
-        const double regSeconds = since(t0) / regReps;
+        const double regSeconds = secondsSince(t0) / regReps;
         const Eigen::VectorXd alphaFinal = f.column("alpha", f.times().size() - 1);
         const double regAlphaError = std::sqrt((alphaReg - alphaFinal).cwiseAbs2().dot(mesh.V) / alphaFinal.cwiseAbs2().dot(mesh.V));
         regMean += regSeconds / static_cast<double>(held.size());

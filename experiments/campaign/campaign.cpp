@@ -335,7 +335,7 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
     const nlohmann::json counts = ledger->status(place.name);
     return {{"campaign", place.name}, {"counts", counts}, {"recovered", recovered},
             {"stopped_at_max_hours", stopped.load()},
-            {"wall_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
+            {"wall_seconds", secondsSince(start)}};
 }
 
 }  // namespace mixload::experiments

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "run/collapse_job.hpp"
+#include "common/clock.hpp"
 
 #include <chrono>
 
@@ -52,7 +53,7 @@ nlohmann::json runCollapse(const CollapseJob& job) {
 
     nlohmann::json result = post::collapseResult(s, dir);
     result["wall_seconds"] =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        secondsSince(t0);
     result["solver_wall_seconds"] = solverWall;
     result["np"] = job.np;
     result["resumed"] = !fresh;

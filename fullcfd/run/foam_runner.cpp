@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "run/foam_runner.hpp"
+#include "common/clock.hpp"
 
 #include <chrono>
 #include <cstdlib>
@@ -97,7 +98,7 @@ double runSolver(const SolverRun& r) {
         runUtility(r.caseDir, {"reconstructPar", "-newTimes"});
     }
     bar.finish();
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return secondsSince(start);
 }
 
 }  // namespace mixload::run

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "run/mixer_job.hpp"
+#include "common/clock.hpp"
 
 #include <chrono>
 
@@ -16,10 +17,6 @@ namespace mixload::run {
 namespace fs = std::filesystem;
 
 namespace {
-double since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 // Replaces the deposit in <case>/0 by the source run's latest fields. mapFieldsPar keeps the new
 // case's boundary conditions (feed, rotation) and maps only values; cell-volume weights keep the
 // powder volume on a different mesh and copy it exactly on the same one.
@@ -82,7 +79,7 @@ nlohmann::json runMixer(const MixerJob& job) {
             runUtility(tmp, {"setFields"});
             if (!job.warmFrom.empty()) warmStart(tmp, job.warmFrom);
         });
-        meshSeconds = since(t0);
+        meshSeconds = secondsSince(t0);
     }
 
     if (job.snapshots || job.profile) cases::writeMixerControlDict(s, dir, job.snapshots, job.profile);
@@ -99,7 +96,7 @@ nlohmann::json runMixer(const MixerJob& job) {
     const auto mesh = nlohmann::json::parse(readFile(dir / "mesh.json"));
     result["cells"] = mesh.value("cells", 0L);
     result["mesh"] = mesh;
-    result["wall_seconds"] = since(t0);
+    result["wall_seconds"] = secondsSince(t0);
     result["solver_wall_seconds"] = solverWall;
     // Meshing runs serial; the solver holds np cores.
     result["core_seconds"] = meshSeconds + solverWall * job.np;
