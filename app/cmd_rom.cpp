@@ -13,6 +13,7 @@
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
 #include "rom/campaign_regression.hpp"
+#include "rom/collapse_check.hpp"
 #include "rom/collapse_galerkin.hpp"
 #include "rom/collapse_model_file.hpp"
 #include "rom/pod_model.hpp"

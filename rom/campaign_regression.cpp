@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "rom/campaign_regression.hpp"
-#include "common/clock.hpp"
 
 #include <chrono>
 #include <cmath>
 
+#include "common/clock.hpp"
 #include "common/input_error.hpp"
 #include "kriging/kriging.hpp"
 #include "rom/alpha_transport.hpp"

@@ -122,16 +122,4 @@ CollapseTrajectory runCollapseGalerkin(const CollapseGalerkin& rom, const Eigen:
                                        const Eigen::VectorXd& phi0, double t0, const std::vector<double>& outputs,
                                        const StoredFields& stored = {});
 
-// Runs the model from rest at t = 0 (the initial column, no flow) with the law of a run's snapshot
-// file (its mu_s, mu_d, I0, cap) through the run's stored times, and compares with every stored
-// field: alpha and U relative errors beside their projection errors, the runout and height, the
-// pressure closure's error, and the costs. The run may be one the model was trained on
-// (reproduction) or not (prediction).
-nlohmann::json checkCollapse(const CollapseGalerkin& rom, const store::SnapshotFile& run);
-
-// A prediction: the model from rest with these mu(I) coefficients (as the solver reads them) to
-// endTstar, L*(t), H*(t) and the kinetic energy at `perTstar` times per t*, and L*f and H*f.
-nlohmann::json predictCollapse(const CollapseGalerkin& rom, double muS, double muD, double i0, double endTstar,
-                               int perTstar);
-
 }  // namespace mixload::rom

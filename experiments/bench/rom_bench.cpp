@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "bench/rom_bench.hpp"
-#include "common/clock.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -9,10 +8,12 @@
 #include <sstream>
 
 #include "common/atomic_file.hpp"
+#include "common/clock.hpp"
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
 #include "kriging/kriging.hpp"
 #include "post/snapshots.hpp"
+#include "rom/collapse_check.hpp"
 #include "rom/pod_regression.hpp"
 #include "run/collapse_job.hpp"
 #include "store/snapshot_file.hpp"

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "run/collapse_job.hpp"
-#include "common/clock.hpp"
 
 #include <chrono>
 
 #include "cases/collapse2d.hpp"
 #include "common/atomic_file.hpp"
+#include "common/clock.hpp"
 #include "common/input_error.hpp"
 #include "post/collapse_results.hpp"
 #include "run/foam_runner.hpp"

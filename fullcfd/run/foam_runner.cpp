@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "run/foam_runner.hpp"
-#include "common/clock.hpp"
 
 #include <chrono>
 #include <cstdlib>
 
+#include "common/clock.hpp"
 #include "common/input_error.hpp"
 #include "common/process.hpp"
 #include "common/progress.hpp"

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "run/mixer_job.hpp"
-#include "common/clock.hpp"
 
 #include <chrono>
 
 #include "cases/mixer3d.hpp"
 #include "common/atomic_file.hpp"
+#include "common/clock.hpp"
 #include "common/input_error.hpp"
 #include "post/mixer_results.hpp"
 #include "post/run_profile.hpp"

@@ -1,0 +1,209 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "rom/collapse_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/input_error.hpp"
+#include "rom/alpha_transport.hpp"
+#include "rom/fv_operators.hpp"
+
+namespace mixload::rom {
+
+namespace fs = std::filesystem;
+
+namespace {
+double weightedNorm(const Eigen::VectorXd& x, const Eigen::VectorXd& w) { return std::sqrt(x.cwiseAbs2().dot(w)); }
+Eigen::VectorXd perComponent(const Eigen::VectorXd& V) {  // cell volumes repeated for 3 components
+    Eigen::VectorXd w(3 * V.size());
+    for (Eigen::Index c = 0; c < V.size(); ++c) w.segment<3>(3 * c).setConstant(V[c]);
+    return w;
+}
+}  // namespace
+
+nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::SnapshotFile& f) {
+    if (f.meshFingerprint() != built.meshFingerprint)
+        throw InputError("check file", f.path().string(), "a run on the model's mesh");
+    // The target's own law (its mu_s, mu_d, I0 and cap): the model's parameters enter here only.
+    CollapseGalerkin rom = built;
+    rom.law = GranularLaw::fromCase(f);
+    const auto& options = rom.options;
+    const auto& m = rom.mesh;
+    const auto& times = f.times();
+    const Eigen::VectorXd wU = perComponent(m.V);
+    bool trainedOn = false;
+    for (const auto& t : rom.trainFiles) trainedOn = trainedOn || fs::absolute(t) == fs::absolute(f.path());
+
+    // The pressure closure on the stored fields: lithostatic against the solver's p, in the powder,
+    // and what it does to the mu(I) viscosity there.
+    const ColumnPressure lith(m, rom.gravity);
+    double pErr = 0, nuErr = 0, pModel = 0;
+    std::vector<double> pErrAt(times.size()), pModelAt(times.size());
+    for (size_t i = 0; i < times.size(); ++i) {
+        const Eigen::VectorXd al = clampFraction(f.column("alpha", i));
+        const Eigen::VectorXd rho = (rom.airRho + (rom.law.rho - rom.airRho) * al.array()).matrix();
+        const Eigen::VectorXd p = f.column("p", i), pl = lith(rho);
+        const Eigen::VectorXd w = al.cwiseProduct(m.V);
+        pErrAt[i] = weightedNorm(pl - p, w) / weightedNorm(p, w);
+        pErr += pErrAt[i];
+        const Eigen::VectorXd sr = strainRate(m, asVectors(f.column("U", i)), asVectors(f.boundaryColumn("U", i)));
+        const Eigen::VectorXd nu = rom.law.nu(sr, p), nul = rom.law.nu(sr, pl);
+        nuErr += weightedNorm(nul - nu, w) / weightedNorm(nu, w);
+    }
+
+    // Linear in time between stored times (the diagnoses).
+    const auto storedAt = [&](auto column) {
+        return [&f, &times, column](double t) {
+            const auto hi = std::min<size_t>(std::upper_bound(times.begin(), times.end(), t) - times.begin(), times.size() - 1);
+            const size_t lo = hi == 0 ? 0 : hi - 1;
+            const double w = hi == lo ? 0 : std::clamp((t - times[lo]) / (times[hi] - times[lo]), 0.0, 1.0);
+            return Eigen::VectorXd((1 - w) * column(f, lo) + w * column(f, hi));
+        };
+    };
+    StoredFields stored;
+    if (options.storedPressure)
+        stored.pressure = storedAt([](const store::SnapshotFile& s, size_t i) { return s.column("p", i); });
+    if (options.storedFlux)
+        stored.flux = storedAt([](const store::SnapshotFile& s, size_t i) { return s.faceColumn("phi", i); });
+    // From rest at t = 0, the column as the case sets it up: nothing of the run is used.
+    const CollapseTrajectory tr =
+        runCollapseGalerkin(rom, rom.shape.initialAlpha(m), Eigen::VectorXd::Zero(m.faces()), 0.0, times, stored);
+
+    double peakU = 0;
+    std::vector<Eigen::VectorXd> Us;
+    for (size_t i = 0; i < times.size(); ++i) {
+        Us.push_back(f.column("U", i));
+        peakU = std::max(peakU, weightedNorm(Us.back(), wU));
+    }
+
+    nlohmann::json rows = nlohmann::json::array();
+    double aSum = 0, aMax = 0, uSum = 0, uMax = 0, aHold = 0, uHold = 0, aProjSum = 0, uProjSum = 0;
+    int held = 0;
+    for (size_t i = 0; i < times.size(); ++i) {
+        const bool trained = trainedOn && i % static_cast<size_t>(options.trainEvery) == 0;
+        const Eigen::VectorXd as = f.column("alpha", i);
+        const Eigen::VectorXd& ar = tr.alpha[i];
+        const double aErr = weightedNorm(ar - as, m.V) / weightedNorm(as, m.V);
+        const Eigen::VectorXd Ur = rom.cellU * tr.flow[i];
+        const double uErr = weightedNorm(Ur - Us[i], wU) / peakU;
+        {
+            const Eigen::VectorXd w = clampFraction(as).cwiseProduct(m.V), ps = f.column("p", i);
+            pModelAt[i] = weightedNorm(tr.pressure[i] - ps, w) / weightedNorm(ps, w);
+            pModel += pModelAt[i];
+        }
+        // Lower bounds: the stored fields' own projections on the bases.
+        const Eigen::VectorXd phi = f.faceColumn("phi", i);
+        const Eigen::VectorXd aProj = rom.flow.project(phi.cwiseQuotient(m.magSf));
+        const double uProj = weightedNorm(rom.cellU * aProj - Us[i], wU) / peakU;
+        double alphaProj = 0;
+        if (rom.alpha)
+            alphaProj = weightedNorm(rom.alphaLift + rom.alpha->reconstruct(rom.alpha->project(as - rom.alphaLift)) - as, m.V) /
+                        weightedNorm(as, m.V);
+        rows.push_back({{"t", times[i]},
+                        {"trained", trained},
+                        {"alpha_error", aErr},
+                        {"alpha_projection_error", alphaProj},
+                        {"u_error", uErr},
+                        {"u_projection_error", uProj},
+                        {"runout_star", rom.shape.runoutStar(m, ar)},
+                        {"runout_star_full", rom.shape.runoutStar(m, as)},
+                        {"height_star", rom.shape.heightStar(m, ar)},
+                        {"height_star_full", rom.shape.heightStar(m, as)},
+                        {"pressure_error", pModelAt[i]},
+                        {"lithostatic_pressure_error", pErrAt[i]},
+                        {"kinetic_energy_j", tr.kineticEnergy[i]},
+                        {"powder_volume_m3", tr.powderVolume[i]}});
+        aSum += aErr;
+        uSum += uErr;
+        aProjSum += alphaProj;
+        uProjSum += uProj;
+        aMax = std::max(aMax, aErr);
+        uMax = std::max(uMax, uErr);
+        if (!trained) {
+            aHold += aErr;
+            uHold += uErr;
+            ++held;
+        }
+    }
+    const auto& last = rows.back();
+    const double n = static_cast<double>(rows.size());
+    const double Lr = last["runout_star"], Lf = last["runout_star_full"], Hr = last["height_star"],
+                 Hf = last["height_star_full"];
+    return {{"snapshots", f.path().string()},
+            {"trained_on_this_run", trainedOn},
+            {"mu_s", rom.law.law.muS},
+            {"mu_d", rom.law.law.muD},
+            {"i0", rom.law.law.I0},
+            {"cells", m.cells},
+            {"stored_times", times.size()},
+            {"train_files", rom.trainFiles.size()},
+            {"train_times", rom.trainTimes},
+            {"modes", rom.modes()},
+            {"flow_energy_kept", rom.flow.keptEnergy()},
+            {"alpha", rom.alpha ? "reduced" : "mesh"},
+            {"alpha_modes", rom.alpha ? rom.alpha->modes.cols() : 0},
+            {"pressure", options.storedPressure ? "stored (diagnosis)"
+                         : options.pressure == PressureClosure::recovered ? "recovered" : "lithostatic"},
+            {"flux", options.storedFlux ? "stored (diagnosis)" : "reduced"},
+            {"pressure_error_mean", pModel / n},
+            {"lithostatic_pressure_error", pErr / n},
+            {"lithostatic_viscosity_error", nuErr / n},
+            {"alpha_error_mean", aSum / n},
+            {"alpha_error_max", aMax},
+            {"alpha_projection_error_mean", aProjSum / n},
+            {"u_error_mean", uSum / n},
+            {"u_error_max", uMax},
+            {"u_projection_error_mean", uProjSum / n},
+            {"alpha_error_held_out_mean", held ? aHold / held : 0.0},
+            {"u_error_held_out_mean", held ? uHold / held : 0.0},
+            {"runout_star", Lr},
+            {"runout_star_full", Lf},
+            {"runout_error", (Lr - Lf) / Lf},
+            {"height_star", Hr},
+            {"height_star_full", Hf},
+            {"height_error", (Hr - Hf) / Hf},
+            {"clipped_volume_share", tr.clippedVolume / tr.powderVolume.front()},
+            {"steps", tr.steps},
+            {"ode_steps", tr.odeSteps},
+            {"rhs_evaluations", tr.rhsEvaluations},
+            {"jacobian_evaluations", tr.jacobianEvaluations},
+            {"build_seconds", rom.buildSeconds},
+            {"online_seconds", tr.wallSeconds},
+            {"times", rows}};
+}
+
+nlohmann::json predictCollapse(const CollapseGalerkin& built, double muS, double muD, double i0, double endTstar,
+                               int perTstar) {
+    if (!(muS > 0)) throw InputError("mu-s", std::to_string(muS), "> 0");
+    if (!(muD > muS)) throw InputError("mu-d", std::to_string(muD), "> mu_s (" + std::to_string(muS) + ")");
+    if (!(i0 > 0)) throw InputError("i0", std::to_string(i0), "> 0");
+    if (!(endTstar > 0 && endTstar <= 100)) throw InputError("end-tstar", std::to_string(endTstar), "(0, 100]");
+    if (perTstar < 1 || perTstar > 1000) throw InputError("writes-per-tstar", std::to_string(perTstar), "1 to 1000");
+    CollapseGalerkin rom = built;
+    rom.law.law = {muS, muD, i0};
+    std::vector<double> outputs;
+    for (int k = 1; k <= static_cast<int>(std::ceil(endTstar * perTstar - 1e-9)); ++k)
+        outputs.push_back(std::min(endTstar, static_cast<double>(k) / perTstar) * rom.tStar);
+    const auto& m = rom.mesh;
+    const auto tr = runCollapseGalerkin(rom, rom.shape.initialAlpha(m), Eigen::VectorXd::Zero(m.faces()), 0.0, outputs);
+    nlohmann::json hist = nlohmann::json::array();
+    for (size_t i = 0; i < tr.times.size(); ++i)
+        hist.push_back({{"t_tstar", tr.times[i] / rom.tStar},
+                        {"runout_star", rom.shape.runoutStar(m, tr.alpha[i])},
+                        {"height_star", rom.shape.heightStar(m, tr.alpha[i])},
+                        {"kinetic_energy_j", tr.kineticEnergy[i]}});
+    return {{"mu_s", muS},
+            {"mu_d", muD},
+            {"i0", i0},
+            {"t_star", rom.tStar},
+            {"end_tstar", endTstar},
+            {"runout_star", hist.back()["runout_star"]},
+            {"height_star", hist.back()["height_star"]},
+            {"powder_volume_change", tr.powderVolume.back() / rom.shape.initialAlpha(m).dot(m.V) - 1},
+            {"steps", tr.steps},
+            {"rhs_evaluations", tr.rhsEvaluations},
+            {"online_seconds", tr.wallSeconds},
+            {"history", hist}};
+}
+
+}  // namespace mixload::rom

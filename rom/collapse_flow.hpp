@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The reduced flow equations of the POD-Galerkin collapse (rom/collapse_galerkin): for a powder
+// fraction held fixed over a step, the densities, the reduced mass matrix and gravity term
+// (Frozen), and for flow coefficients a, the projected convection and viscous stress (faceForce),
+// the rate da/dt, and the pressure the reduced momentum implies. The derivation is in
+// collapse_galerkin.hpp.
+#pragma once
+
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+
+#include "rom/collapse_galerkin.hpp"
+
+namespace mixload::rom {
+
+// What the flow equations hold fixed over one step: the densities, viscosity mixture inputs, the
+// lithostatic pressure, the reduced mass matrix and gravity term, all from alpha.
+struct Frozen {
+    Eigen::VectorXd alpha, rhoC, rhoF, p, gravityFaces, gravityTerm;
+    Eigen::MatrixXd mass;
+    Eigen::LLT<Eigen::MatrixXd> massLlt;
+};
+
+class CollapseFlow {
+  public:
+    explicit CollapseFlow(const CollapseGalerkin& r);
+
+    Frozen freeze(const Eigen::VectorXd& alphaIn) const;
+
+    // The total pressure the reduced flow implies: per face, the momentum the projection left
+    // unbalanced, rho_f V_f dv_f/dt - V_f F_f - gravity_f, is the pressure's -|Sf| (p_N - p_O);
+    // its gradient part, found by least squares (a Poisson equation), is p_rgh, and p = p_rgh + rho gh.
+    Eigen::VectorXd recoverPressure(const Frozen& z, const Eigen::VectorXd& a) const;
+
+    Vectors cellVelocity(const Eigen::VectorXd& a) const { return asVectors(r_.cellU * a); }
+
+    Vectors boundaryVelocity(const Vectors& U) const;
+
+    // M da/dt = the projected convection, viscous and gravity terms.
+    Eigen::VectorXd rate(const Frozen& z, const Eigen::VectorXd& a) const;
+
+    // Per face: V_f n_f . interp(-rho (U.grad)U + div(mu (grad U + dev2 grad U^T))).
+    Eigen::VectorXd faceForce(const Frozen& z, const Eigen::VectorXd& a) const;
+
+    Eigen::VectorXd flux(const Eigen::VectorXd& a) const { return m_.magSf.cwiseProduct(r_.flow.modes * a); }
+
+    // Coefficients of a flux in the density-weighted product at alpha.
+    Eigen::VectorXd project(const Frozen& z, const Eigen::VectorXd& phi) const;
+
+    double potentialEnergy(const Eigen::VectorXd& alpha) const;
+
+    const ColumnPressure& pressure() const { return pressure_; }
+
+  private:
+    const CollapseGalerkin& r_;
+    const FvMesh& m_;
+    ColumnPressure pressure_;
+    Eigen::VectorXd Vf_, ghf_;
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> poisson_;
+};
+
+// Owner values on the boundary faces (zero gradient).
+Eigen::VectorXd ownerValues(const FvMesh& m, const Eigen::VectorXd& cells);
+
+}  // namespace mixload::rom
