@@ -12,12 +12,12 @@
 #include "common/atomic_file.hpp"
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
-#include "rom/campaign_regression.hpp"
-#include "rom/collapse_check.hpp"
-#include "rom/collapse_galerkin.hpp"
-#include "rom/collapse_model_file.hpp"
-#include "rom/pod_model.hpp"
-#include "rom/viscosity_deim.hpp"
+#include "rom/regression/campaign_regression.hpp"
+#include "rom/galerkin/collapse_check.hpp"
+#include "rom/galerkin/collapse_galerkin.hpp"
+#include "rom/galerkin/collapse_model_file.hpp"
+#include "rom/pod/pod_model.hpp"
+#include "rom/hyper/viscosity_deim.hpp"
 #include "store/snapshot_file.hpp"
 
 namespace mixload::app {

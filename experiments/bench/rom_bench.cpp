@@ -13,8 +13,8 @@
 #include "common/input_error.hpp"
 #include "kriging/kriging.hpp"
 #include "post/snapshots.hpp"
-#include "rom/collapse_check.hpp"
-#include "rom/pod_regression.hpp"
+#include "rom/galerkin/collapse_check.hpp"
+#include "rom/regression/pod_regression.hpp"
 #include "run/collapse_job.hpp"
 #include "store/snapshot_file.hpp"
 

@@ -14,7 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "rom/collapse_galerkin.hpp"
+#include "rom/galerkin/collapse_galerkin.hpp"
 #include "scene/collapse_overrides.hpp"
 
 namespace mixload::experiments {

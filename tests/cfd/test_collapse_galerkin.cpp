@@ -9,9 +9,9 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_harness.hpp"
-#include "rom/alpha_transport.hpp"
-#include "rom/collapse_shape.hpp"
-#include "rom/fv_operators.hpp"
+#include "rom/operators/alpha_transport.hpp"
+#include "rom/galerkin/collapse_shape.hpp"
+#include "rom/operators/fv_operators.hpp"
 #include "store/snapshot_file.hpp"
 
 using namespace mixload;

@@ -13,8 +13,8 @@
 
 #include "cli_harness.hpp"
 #include "post/foam_files.hpp"
-#include "rom/fv_operators.hpp"
-#include "rom/granular_viscosity.hpp"
+#include "rom/operators/fv_operators.hpp"
+#include "rom/operators/granular_viscosity.hpp"
 #include "run/foam_runner.hpp"
 #include "store/snapshot_file.hpp"
 

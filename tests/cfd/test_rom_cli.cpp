@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_harness.hpp"
-#include "rom/pod_model.hpp"
+#include "rom/pod/pod_model.hpp"
 #include "store/snapshot_file.hpp"
 
 using namespace mixload;

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "rom/cvode_integrator.hpp"
+#include "rom/galerkin/cvode_integrator.hpp"
 
 using namespace mixload::rom;
 

@@ -8,9 +8,9 @@
 
 #include <set>
 
-#include "rom/deim.hpp"
-#include "rom/pod.hpp"
-#include "rom/pod_regression.hpp"
+#include "rom/hyper/deim.hpp"
+#include "rom/pod/pod.hpp"
+#include "rom/regression/pod_regression.hpp"
 
 using namespace mixload::rom;
 

@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "rom/viscosity_deim.hpp"
+#include "rom/hyper/viscosity_deim.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 #include "common/input_error.hpp"
-#include "rom/deim.hpp"
-#include "rom/fv_operators.hpp"
-#include "rom/granular_viscosity.hpp"
-#include "rom/pod.hpp"
+#include "rom/hyper/deim.hpp"
+#include "rom/operators/fv_operators.hpp"
+#include "rom/operators/granular_viscosity.hpp"
+#include "rom/pod/pod.hpp"
 
 namespace mixload::rom {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "rom/fv_mesh.hpp"
+#include "rom/operators/fv_mesh.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "rom/collapse_model_file.hpp"
+#include "rom/galerkin/collapse_model_file.hpp"
 
 #include "common/clock.hpp"
 #include "common/input_error.hpp"
 #include "mixload_version.hpp"
-#include "rom/pod_model.hpp"
+#include "rom/pod/pod_model.hpp"
 #include "store/h5_io.hpp"
 
 namespace mixload::rom {

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "rom/alpha_transport.hpp"
+#include "rom/operators/alpha_transport.hpp"
 
 #include <cmath>
 #include <limits>
 
-#include "rom/fv_operators.hpp"
+#include "rom/operators/fv_operators.hpp"
 
 namespace mixload::rom {
 

@@ -9,7 +9,7 @@
 // runout, read where half a cell of powder remains, comes out far too long.
 #pragma once
 
-#include "rom/fv_mesh.hpp"
+#include "rom/operators/fv_mesh.hpp"
 
 namespace mixload::rom {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "rom/cvode_integrator.hpp"
+#include "rom/galerkin/cvode_integrator.hpp"
 
 #include <exception>
 #include <stdexcept>

@@ -17,7 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "rom/pod.hpp"
+#include "rom/pod/pod.hpp"
 #include "store/snapshot_file.hpp"
 
 namespace mixload::rom {

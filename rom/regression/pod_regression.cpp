@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "rom/pod_regression.hpp"
+#include "rom/regression/pod_regression.hpp"
 
 #include <stdexcept>
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "rom/collapse_shape.hpp"
+#include "rom/galerkin/collapse_shape.hpp"
 
 #include <algorithm>
 #include <cmath>

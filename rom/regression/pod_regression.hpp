@@ -11,7 +11,7 @@
 #include <Eigen/Dense>
 
 #include "kriging/kriging.hpp"
-#include "rom/pod.hpp"
+#include "rom/pod/pod.hpp"
 
 namespace mixload::rom {
 

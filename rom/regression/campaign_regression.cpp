@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "rom/campaign_regression.hpp"
+#include "rom/regression/campaign_regression.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -7,10 +7,10 @@
 #include "common/clock.hpp"
 #include "common/input_error.hpp"
 #include "kriging/kriging.hpp"
-#include "rom/alpha_transport.hpp"
-#include "rom/collapse_shape.hpp"
-#include "rom/fv_mesh.hpp"
-#include "rom/pod_regression.hpp"
+#include "rom/operators/alpha_transport.hpp"
+#include "rom/galerkin/collapse_shape.hpp"
+#include "rom/operators/fv_mesh.hpp"
+#include "rom/regression/pod_regression.hpp"
 #include "store/ledger.hpp"
 #include "store/snapshot_file.hpp"
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "rom/pod_model.hpp"
+#include "rom/pod/pod_model.hpp"
 
 
 #include <map>

@@ -31,10 +31,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "rom/collapse_shape.hpp"
-#include "rom/fv_mesh.hpp"
-#include "rom/granular_viscosity.hpp"
-#include "rom/pod.hpp"
+#include "rom/galerkin/collapse_shape.hpp"
+#include "rom/operators/fv_mesh.hpp"
+#include "rom/operators/granular_viscosity.hpp"
+#include "rom/pod/pod.hpp"
 #include "store/snapshot_file.hpp"
 
 namespace mixload::rom {

@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "rom/collapse_galerkin.hpp"
+#include "rom/galerkin/collapse_galerkin.hpp"
 #include "store/snapshot_file.hpp"
 
 namespace mixload::rom {

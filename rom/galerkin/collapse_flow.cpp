@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "rom/collapse_flow.hpp"
+#include "rom/galerkin/collapse_flow.hpp"
 
-#include "rom/alpha_transport.hpp"
-#include "rom/fv_operators.hpp"
+#include "rom/operators/alpha_transport.hpp"
+#include "rom/operators/fv_operators.hpp"
 
 namespace mixload::rom {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "rom/pod.hpp"
+#include "rom/pod/pod.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "rom/collapse_check.hpp"
+#include "rom/galerkin/collapse_check.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 #include "common/input_error.hpp"
-#include "rom/alpha_transport.hpp"
-#include "rom/fv_operators.hpp"
+#include "rom/operators/alpha_transport.hpp"
+#include "rom/operators/fv_operators.hpp"
 
 namespace mixload::rom {
 

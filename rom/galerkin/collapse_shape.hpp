@@ -6,7 +6,7 @@
 // comparable to the full run's digit for digit.
 #pragma once
 
-#include "rom/fv_mesh.hpp"
+#include "rom/operators/fv_mesh.hpp"
 #include "store/snapshot_file.hpp"
 
 namespace mixload::rom {

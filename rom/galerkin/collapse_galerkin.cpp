@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "rom/collapse_galerkin.hpp"
+#include "rom/galerkin/collapse_galerkin.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -7,10 +7,10 @@
 
 #include "common/clock.hpp"
 #include "common/input_error.hpp"
-#include "rom/alpha_transport.hpp"
-#include "rom/collapse_flow.hpp"
-#include "rom/cvode_integrator.hpp"
-#include "rom/fv_operators.hpp"
+#include "rom/operators/alpha_transport.hpp"
+#include "rom/galerkin/collapse_flow.hpp"
+#include "rom/galerkin/cvode_integrator.hpp"
+#include "rom/operators/fv_operators.hpp"
 
 namespace mixload::rom {
 

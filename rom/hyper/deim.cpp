@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "rom/deim.hpp"
+#include "rom/hyper/deim.hpp"
 
 #include <algorithm>
 #include <cmath>

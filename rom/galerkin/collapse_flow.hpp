@@ -9,7 +9,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 
-#include "rom/collapse_galerkin.hpp"
+#include "rom/galerkin/collapse_galerkin.hpp"
 
 namespace mixload::rom {
 

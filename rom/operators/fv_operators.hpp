@@ -11,7 +11,7 @@
 #include <array>
 #include <Eigen/Dense>
 
-#include "rom/fv_mesh.hpp"
+#include "rom/operators/fv_mesh.hpp"
 
 namespace mixload::rom {
 

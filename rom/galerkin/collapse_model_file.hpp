@@ -15,7 +15,7 @@
 
 #include <filesystem>
 
-#include "rom/collapse_galerkin.hpp"
+#include "rom/galerkin/collapse_galerkin.hpp"
 
 namespace mixload::rom {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "rom/fv_operators.hpp"
+#include "rom/operators/fv_operators.hpp"
 
 #include <cmath>
 #include <stdexcept>

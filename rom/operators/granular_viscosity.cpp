@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "rom/granular_viscosity.hpp"
+#include "rom/operators/granular_viscosity.hpp"
 
 #include <algorithm>
 #include <stdexcept>
