@@ -252,6 +252,8 @@ void addRom(CLI::App& app, Action& action) {
             c->add_option("--pressure", pressure, "Pressure for the mu(I) law: lithostatic | recovered (from the reduced momentum)")
                 ->capture_default_str();
             c->add_option("--courant", opt.courant, "Transport Courant number of a step")->capture_default_str();
+            c->add_option("--max-step-tstar", opt.maxStepTstar, "Largest step, in t* (the transport's Courant limit may set a smaller one)")
+                ->capture_default_str();
             c->add_option("--c-alpha", opt.cAlpha, "Interface compression of the alpha transport (0: none)")->capture_default_str();
             c->add_option("--rtol", opt.rtol, "CVODE relative tolerance")->capture_default_str();
             c->add_flag("--restart-each-step", opt.restartEachStep, "Restart CVODE after every alpha step (the strict splitting; slower)");
@@ -272,11 +274,14 @@ void addRom(CLI::App& app, Action& action) {
             if (pressure != "recovered" && pressure != "lithostatic") throw InputError("pressure", pressure, "lithostatic or recovered");
             if (!(opt.cAlpha >= 0 && opt.cAlpha <= 4)) throw InputError("c-alpha", std::to_string(opt.cAlpha), "[0, 4]");
             if (!(opt.rtol > 0 && opt.rtol < 1)) throw InputError("rtol", std::to_string(opt.rtol), "(0, 1)");
+            if (!(opt.maxStepTstar > 0 && opt.maxStepTstar <= 1))
+                throw InputError("max-step-tstar", std::to_string(opt.maxStepTstar), "(0, 1]");
             if (!(opt.massTolerance > 0 && opt.massTolerance <= 1))
                 throw InputError("mass-tolerance", std::to_string(opt.massTolerance), "(0, 1]");
             auto& o = m.options;
             o.pressure = pressure == "recovered" ? rom::PressureClosure::recovered : rom::PressureClosure::lithostatic;
             o.courant = opt.courant;
+            o.maxStepTstar = opt.maxStepTstar;
             o.cAlpha = opt.cAlpha;
             o.rtol = opt.rtol;
             o.restartEachStep = opt.restartEachStep;
