@@ -395,6 +395,7 @@ void addRom(CLI::App& app, Action& action) {
         std::string model;
         double muS = 0, muD = 0, i0 = 0, endTstar = 8;
         int perTstar = 20;
+        std::string fields;
     };
     auto ro = std::make_shared<RunCmd>();
     auto* run = cmd->add_subcommand("run", "Predict a collapse with a model file: L*(t), H*(t), L*f and H*f at new mu(I) coefficients");
@@ -404,11 +405,17 @@ void addRom(CLI::App& app, Action& action) {
     run->add_option("--i0", ro->i0, "I0")->required();
     run->add_option("--end-tstar", ro->endTstar, "Simulated time, in t*")->capture_default_str();
     run->add_option("--writes-per-tstar", ro->perTstar, "Output times per t*")->capture_default_str();
+    run->add_option("--fields", ro->fields, "Also write the model's alpha and U at the output times to this snapshot file (.h5, with .xmf)");
     ro->add(run, false);
     run->callback([&action, ro] {
         action = [ro] {
             const auto model = ro->apply(rom::readCollapseModel(ro->model));
-            const auto j = rom::predictCollapse(model, ro->muS, ro->muD, ro->i0, ro->endTstar, ro->perTstar);
+            rom::CollapseTrajectory tr;
+            auto j = rom::predictCollapse(model, ro->muS, ro->muD, ro->i0, ro->endTstar, ro->perTstar, &tr);
+            if (!ro->fields.empty()) {
+                rom::writeCollapseFields(model, ro->model, tr, ro->fields);
+                j["fields"] = fs::absolute(ro->fields).string();
+            }
             if (ro->json) {
                 std::cout << j.dump(2) << '\n';
                 return 0;
@@ -417,6 +424,7 @@ void addRom(CLI::App& app, Action& action) {
                       << ") by the model " << ro->model << ": L*f " << j["runout_star"].get<double>() << ", H*f "
                       << j["height_star"].get<double>() << " at " << ro->endTstar << " t* (" << j["online_seconds"].get<double>()
                       << " s)\n";
+            if (j.contains("fields")) std::cout << "  fields: " << j["fields"].get<std::string>() << " (+ .xmf)\n";
             return 0;
         };
     });

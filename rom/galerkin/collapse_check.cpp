@@ -173,7 +173,7 @@ nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::Snapsho
 }
 
 nlohmann::json predictCollapse(const CollapseGalerkin& built, double muS, double muD, double i0, double endTstar,
-                               int perTstar) {
+                               int perTstar, CollapseTrajectory* trajectory) {
     if (!(muS > 0)) throw InputError("mu-s", std::to_string(muS), "> 0");
     if (!(muD > muS)) throw InputError("mu-d", std::to_string(muD), "> mu_s (" + std::to_string(muS) + ")");
     if (!(i0 > 0)) throw InputError("i0", std::to_string(i0), "> 0");
@@ -192,6 +192,7 @@ nlohmann::json predictCollapse(const CollapseGalerkin& built, double muS, double
                         {"runout_star", rom.shape.runoutStar(m, tr.alpha[i])},
                         {"height_star", rom.shape.heightStar(m, tr.alpha[i])},
                         {"kinetic_energy_j", tr.kineticEnergy[i]}});
+    if (trajectory) *trajectory = tr;
     return {{"mu_s", muS},
             {"mu_d", muD},
             {"i0", i0},

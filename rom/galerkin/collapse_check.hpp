@@ -18,7 +18,8 @@ nlohmann::json checkCollapse(const CollapseGalerkin& rom, const store::SnapshotF
 
 // A prediction: the model from rest with these mu(I) coefficients (as the solver reads them) to
 // endTstar, L*(t), H*(t) and the kinetic energy at `perTstar` times per t*, and L*f and H*f.
+// trajectory, when given, receives the model's fields at those times.
 nlohmann::json predictCollapse(const CollapseGalerkin& rom, double muS, double muD, double i0, double endTstar,
-                               int perTstar);
+                               int perTstar, CollapseTrajectory* trajectory = nullptr);
 
 }  // namespace mixload::rom

@@ -26,4 +26,10 @@ void writeCollapseModel(const CollapseGalerkin& model, const store::CaseFile& so
 // Throws InputError naming the file for anything but a complete model file of this version.
 CollapseGalerkin readCollapseModel(const std::filesystem::path& file);
 
+// A model's fields (alpha and the reconstructed U at each time of a trajectory) as a snapshot file
+// (schema mixload-snapshots 1: no boundary values) with its XDMF beside it, the mesh and params
+// copied from the model file: ParaView and every snapshot reader take it as they take a full run's.
+void writeCollapseFields(const CollapseGalerkin& model, const std::filesystem::path& modelFile,
+                         const CollapseTrajectory& trajectory, const std::filesystem::path& file);
+
 }  // namespace mixload::rom

@@ -238,7 +238,7 @@ TEST(CollapseGalerkin, ModelFileRunsWithoutItsSnapshots) {
     end.precision(17);
     end << endTstar;
     const auto r = runMixload({"rom", "run", model.string(), "--mu-s", "1.33", "--mu-d", "1.69", "--i0", "0.3", "--end-tstar",
-                               end.str(), "--json"});
+                               end.str(), "--fields", (dir / "rom.h5").string(), "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
     std::cout << "run: L*f " << j["runout_star"] << " (check " << check["runout_star"] << "), " << j["online_seconds"] << " s\n";
@@ -246,4 +246,12 @@ TEST(CollapseGalerkin, ModelFileRunsWithoutItsSnapshots) {
     EXPECT_NEAR(j["height_star"].get<double>(), check["height_star"].get<double>(), 0.005);
     EXPECT_GT(j["history"].size(), 100u);
     EXPECT_LT(std::abs(j["powder_volume_change"].get<double>()), 0.01);
+    // The fields it wrote are a snapshot file: its last alpha gives the runout it printed.
+    const store::SnapshotFile out(dir / "rom.h5");
+    EXPECT_TRUE(fs::exists(dir / "rom.xmf"));
+    EXPECT_EQ(out.times().size(), j["history"].size());
+    const auto m = rom::FvMesh::fromCase(out);
+    const auto shape = rom::CollapseShape::fromCase(out);
+    EXPECT_NEAR(shape.runoutStar(m, out.column("alpha", out.times().size() - 1)), j["runout_star"].get<double>(), 1e-12);
+    EXPECT_EQ(out.components("U"), 3);
 }
