@@ -430,7 +430,8 @@ void addRom(CLI::App& app, Action& action) {
     });
 
     struct RegressionCmd {
-        std::string campaign, dir = "runs/campaigns";
+        std::string campaign, dir = "runs/campaigns", fields;
+        std::vector<std::string> at;
         rom::RegressionCheckOptions opt;
         bool json = false;
     };
@@ -442,12 +443,37 @@ void addRom(CLI::App& app, Action& action) {
     reg->add_option("--dir", rg->dir, "Campaign directory")->capture_default_str();
     reg->add_option("--modes", rg->opt.modes, "POD modes of the field (0: by --energy)")->capture_default_str();
     reg->add_option("--energy", rg->opt.energy, "Share of the field's fluctuation energy the modes keep")->capture_default_str();
+    reg->add_option("--at", rg->at, "Instead of the leave-one-out check: predict at NAME=VALUE (one per varying input; repeatable)");
+    reg->add_option("--fields", rg->fields, "With --at: write the predicted alpha to this snapshot file (.h5, with .xmf)");
     reg->add_flag("--json", rg->json, "Print JSON");
     reg->callback([&action, rg] {
         action = [rg] {
             if (rg->opt.modes < 0) throw InputError("modes", std::to_string(rg->opt.modes), "0 (by energy) or more");
             if (!(rg->opt.energy > 0 && rg->opt.energy <= 1)) throw InputError("energy", std::to_string(rg->opt.energy), "(0, 1]");
-            const auto j = rom::campaignRegressionCheck(fs::path(rg->dir) / rg->campaign / "ledger.sqlite", rg->campaign, rg->opt);
+            const fs::path ledger = fs::path(rg->dir) / rg->campaign / "ledger.sqlite";
+            if (!rg->at.empty()) {
+                std::map<std::string, double> point;
+                for (const auto& a : rg->at) {
+                    const auto eq = a.find('=');
+                    const auto v = eq == std::string::npos ? std::nullopt : parseNumber(a.substr(eq + 1));
+                    if (!v) throw InputError("at", a, "NAME=VALUE, e.g. rho=400");
+                    point[a.substr(0, eq)] = *v;
+                }
+                const auto j = rom::campaignRegressionPredict(ledger, rg->campaign, rg->opt, point, rg->fields);
+                if (rg->json) {
+                    std::cout << j.dump(2) << '\n';
+                    return 0;
+                }
+                for (const auto& w : j["warnings"]) std::cerr << "mixload: warning: " << w.get<std::string>() << '\n';
+                std::cout << std::setprecision(4) << "POD regression of " << rg->campaign << " at " << j["at"].dump() << ":";
+                for (const char* q : {"loading_kg", "runout_star", "height_star"})
+                    if (j.contains(q)) std::cout << ' ' << q << " = " << j[q].get<double>();
+                std::cout << " (" << j["modes"] << " modes, " << j["runs"] << " runs)\n";
+                if (j.contains("fields")) std::cout << "  fields: " << j["fields"].get<std::string>() << " (+ .xmf)\n";
+                return 0;
+            }
+            if (!rg->fields.empty()) throw InputError("fields", rg->fields, "used with --at");
+            const auto j = rom::campaignRegressionCheck(ledger, rg->campaign, rg->opt);
             if (rg->json) {
                 std::cout << j.dump(2) << '\n';
                 return 0;

@@ -5,8 +5,10 @@
 #include <cstring>
 
 #include "common/hash.hpp"
+#include "common/clock.hpp"
 #include "common/input_error.hpp"
 #include "store/ledger.hpp"
+#include "store/xdmf.hpp"
 
 namespace mixload::store {
 
@@ -162,6 +164,46 @@ std::vector<fs::path> campaignSnapshotFiles(const fs::path& ledger, const std::s
     if (out.empty())
         throw InputError("campaign", campaign, "a campaign whose finished runs kept snapshots (campaign run --snapshots)");
     return out;
+}
+
+void writeDerivedSnapshots(const CaseFile& source, const std::vector<double>& times,
+                           const std::vector<std::pair<std::string, Eigen::MatrixXd>>& fields,
+                           const nlohmann::json& provenance, const fs::path& file) {
+    const auto nT = static_cast<hsize_t>(times.size()), nC = static_cast<hsize_t>(source.cells());
+    if (nT == 0) throw InputError("fields", file.string(), "at least one time");
+    std::vector<std::pair<std::string, int>> written;
+    for (const auto& [name, m] : fields) {
+        const int comps = m.rows() == static_cast<Eigen::Index>(nC) ? 1 : 3;
+        if (m.rows() != comps * static_cast<Eigen::Index>(nC) || m.cols() != static_cast<Eigen::Index>(nT))
+            throw std::invalid_argument("derived snapshots: field " + name + " does not fit the mesh and times");
+        written.emplace_back(storedFieldName(name), comps);
+    }
+    h5::writeFileAtomically(file, [&](hid_t f) {
+        h5::attr(f, "schema", std::string(kSnapshotSchema));
+        h5::attr(f, "schema_version", 1LL);
+        h5::attr(f, "created_utc", utcNow());
+        h5::attr(f, "field_precision", std::string("float64"));
+        h5::attr(f, "mesh_moves", 0LL);
+        for (const auto& [k, v] : provenance.items())
+            if (v.is_number()) h5::attr(f, k, v.get<double>());
+            else h5::attr(f, k, v.is_string() ? v.get<std::string>() : v.dump());
+        source.copyCaseTo(f);
+        h5::write(f, "time", {nT}, times);
+        auto g = h5::createGroup(f, "fields");
+        for (size_t k = 0; k < fields.size(); ++k) {
+            const auto& m = fields[k].second;
+            const int comps = written[k].second;
+            auto d = h5::createDataset(g, written[k].first, comps == 1 ? std::vector<hsize_t>{nT, nC} : std::vector<hsize_t>{nT, nC, 3},
+                                       h5::Stored::Float64, true);
+            for (hsize_t i = 0; i < nT; ++i) {
+                const Eigen::VectorXd col = m.col(static_cast<Eigen::Index>(i));
+                h5::writeRow(d, i, std::vector<double>(col.data(), col.data() + col.size()));
+            }
+        }
+    });
+    fs::path xdmf = file;
+    xdmf.replace_extension(".xmf");
+    writeXdmf(xdmf, file.filename().string(), times, static_cast<int32_t>(nC), written, true, false);
 }
 
 }  // namespace mixload::store

@@ -50,6 +50,14 @@ private:
     std::vector<double> times_;
 };
 
+// Fields that a model computed on a stored case's mesh, as a snapshot file (schema version 1: no
+// boundary values) with its XDMF beside it: the mesh and params copied from `source`, `provenance`
+// as root attributes (who wrote it, from what). fields: name -> cells x times (scalar) or
+// 3 cells x times (vector, the components of a cell together). Written whole or not at all.
+void writeDerivedSnapshots(const CaseFile& source, const std::vector<double>& times,
+                           const std::vector<std::pair<std::string, Eigen::MatrixXd>>& fields,
+                           const nlohmann::json& provenance, const std::filesystem::path& file);
+
 // Snapshot files of one mesh, in order. Columns are numbered file by file, time by time.
 class SnapshotSet {
 public:

@@ -7,7 +7,6 @@
 #include "rom/pod/pod_model.hpp"
 #include "store/h5_io.hpp"
 #include "store/snapshot_file.hpp"
-#include "store/xdmf.hpp"
 
 namespace mixload::rom {
 
@@ -92,37 +91,22 @@ CollapseGalerkin readCollapseModel(const fs::path& file) {
 
 void writeCollapseFields(const CollapseGalerkin& m, const fs::path& modelFile, const CollapseTrajectory& tr,
                          const fs::path& file) {
-    if (tr.times.empty()) throw InputError("fields", file.string(), "a trajectory with at least one time");
     const ModelFile source(modelFile);
-    const auto nT = static_cast<hsize_t>(tr.times.size()), nC = static_cast<hsize_t>(m.mesh.cells);
-    h5::writeFileAtomically(file, [&](hid_t f) {
-        h5::attr(f, "schema", std::string(store::kSnapshotSchema));
-        h5::attr(f, "schema_version", 1LL);
-        h5::attr(f, "mixload_version", std::string(kVersion));
-        h5::attr(f, "git_commit", std::string(kGitCommit));
-        h5::attr(f, "created_utc", utcNow());
-        h5::attr(f, "written_by", std::string("mixload rom run (POD-Galerkin collapse model)"));
-        h5::attr(f, "scene_kind", source.params().value("scene", std::string()));
-        h5::attr(f, "scene_hash", std::string("none (reduced model)"));
-        h5::attr(f, "openfoam_version", std::string("none (reduced model)"));
-        h5::attr(f, "model", fs::absolute(modelFile).string());
-        h5::attr(f, "field_precision", std::string("float64"));
-        h5::attr(f, "mesh_moves", 0LL);
-        source.copyCaseTo(f);
-        h5::write(f, "time", {nT}, tr.times);
-        auto g = h5::createGroup(f, "fields");
-        auto a = h5::createDataset(g, "alpha.powder", {nT, nC}, h5::Stored::Float64, true);
-        auto u = h5::createDataset(g, "U", {nT, nC, 3}, h5::Stored::Float64, true);
-        for (hsize_t i = 0; i < nT; ++i) {
-            const Eigen::VectorXd& al = tr.alpha[i];
-            h5::writeRow(a, i, std::vector<double>(al.data(), al.data() + al.size()));
-            const Eigen::VectorXd U = m.cellU * tr.flow[i];
-            h5::writeRow(u, i, std::vector<double>(U.data(), U.data() + U.size()));
-        }
-    });
-    fs::path xdmf = file;
-    xdmf.replace_extension(".xmf");
-    store::writeXdmf(xdmf, file.filename().string(), tr.times, static_cast<int32_t>(nC), {{"alpha.powder", 1}, {"U", 3}}, true, false);
+    const auto nT = static_cast<Eigen::Index>(tr.times.size());
+    Eigen::MatrixXd alpha(m.mesh.cells, nT), U(3 * m.mesh.cells, nT);
+    for (Eigen::Index i = 0; i < nT; ++i) {
+        alpha.col(i) = tr.alpha[static_cast<size_t>(i)];
+        U.col(i) = m.cellU * tr.flow[static_cast<size_t>(i)];
+    }
+    store::writeDerivedSnapshots(source, tr.times, {{"alpha", alpha}, {"U", U}},
+                                 {{"mixload_version", kVersion},
+                                  {"git_commit", kGitCommit},
+                                  {"written_by", "mixload rom run (POD-Galerkin collapse model)"},
+                                  {"model", fs::absolute(modelFile).string()},
+                                  {"scene_kind", source.params().value("scene", std::string())},
+                                  {"scene_hash", "none (reduced model)"},
+                                  {"openfoam_version", "none (reduced model)"}},
+                                 file);
 }
 
 }  // namespace mixload::rom

@@ -3,12 +3,14 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "common/clock.hpp"
 #include "common/input_error.hpp"
 #include "kriging/kriging.hpp"
-#include "rom/operators/alpha_transport.hpp"
+#include "mixload_version.hpp"
 #include "rom/galerkin/collapse_shape.hpp"
+#include "rom/operators/alpha_transport.hpp"
 #include "rom/operators/fv_mesh.hpp"
 #include "rom/regression/pod_regression.hpp"
 #include "store/ledger.hpp"
@@ -21,100 +23,112 @@ namespace fs = std::filesystem;
 namespace {
 using Clock = std::chrono::steady_clock;
 
-
 // Leave-one-out rows of X and y.
 Eigen::MatrixXd without(const Eigen::MatrixXd& m, Eigen::Index i) {
     Eigen::MatrixXd out(m.rows() - 1, m.cols());
     out << m.topRows(i), m.bottomRows(m.rows() - i - 1);
     return out;
 }
+
+// A campaign's finished runs with snapshots: their varying inputs X, last stored alpha F (cells x
+// runs) and recorded quantities Q, and what reads a quantity from a field.
+struct CampaignFields {
+    std::vector<store::LedgerRun> runs;
+    std::vector<store::SnapshotFile> files;
+    std::vector<std::string> inputs, qois;
+    Eigen::MatrixXd X, F, Q;
+    std::vector<double> rho;  // mixer: each run's bulk density
+    bool mixer = false;
+    std::string scene;
+    FvMesh mesh;
+    std::optional<CollapseShape> shape;
+
+    static CampaignFields load(const fs::path& ledger, const std::string& campaign) {
+        if (!fs::exists(ledger)) throw InputError("dir", ledger.parent_path().string(), "a campaign directory with a ledger.sqlite");
+        const store::Ledger l(ledger);
+        if (!l.campaign(campaign)) throw InputError("campaign", campaign, "a campaign of " + ledger.string());
+        CampaignFields c;
+        for (auto& r : l.runs(campaign))
+            if (r.status == "done" && fs::exists(fs::path(r.runDir) / "snapshots.h5")) c.runs.push_back(r);
+        if (c.runs.size() < 3)
+            throw InputError("campaign", campaign, "three or more finished runs with snapshots (campaign run --snapshots)");
+        for (const auto& [k, v] : c.runs.front().params.items()) {
+            if (!v.is_number()) continue;
+            bool varies = false;
+            for (const auto& r : c.runs) varies = varies || r.params.at(k).get<double>() != v.get<double>();
+            if (varies) c.inputs.push_back(k);
+        }
+        if (c.inputs.empty()) throw InputError("campaign", campaign, "a design whose inputs vary");
+        for (const auto& r : c.runs) c.files.emplace_back(fs::path(r.runDir) / "snapshots.h5");
+        for (const auto& f : c.files)
+            if (f.meshFingerprint() != c.files.front().meshFingerprint())
+                throw InputError("campaign", campaign, "runs on one mesh (" + f.path().string() + " differs)");
+        c.scene = c.files.front().params().value("scene", std::string());
+        c.mixer = c.scene == "mixer3d";
+        if (!c.mixer && c.scene != "collapse2d") throw InputError("scene", c.scene, "mixer3d or collapse2d runs");
+        c.mesh = FvMesh::fromCase(c.files.front());
+        if (!c.mixer) c.shape = CollapseShape::fromCase(c.files.front());
+        c.qois = c.mixer ? std::vector<std::string>{"loading_kg"} : std::vector<std::string>{"runout_star", "height_star"};
+        const auto n = static_cast<Eigen::Index>(c.runs.size()), d = static_cast<Eigen::Index>(c.inputs.size());
+        c.X.resize(n, d);
+        c.F.resize(c.mesh.cells, n);
+        c.Q.resize(n, static_cast<Eigen::Index>(c.qois.size()));
+        for (Eigen::Index i = 0; i < n; ++i) {
+            const auto& r = c.runs[static_cast<size_t>(i)];
+            for (Eigen::Index k = 0; k < d; ++k) c.X(i, k) = r.params.at(c.inputs[static_cast<size_t>(k)]).get<double>();
+            const auto& f = c.files[static_cast<size_t>(i)];
+            c.F.col(i) = f.column("alpha", f.times().size() - 1);
+            for (size_t q = 0; q < c.qois.size(); ++q) c.Q(i, static_cast<Eigen::Index>(q)) = r.result.at(c.qois[q]).get<double>();
+            c.rho.push_back(c.mixer ? f.params().at("material.bulk_density_kg_m3").get<double>() : 0.0);
+        }
+        return c;
+    }
+
+    // What a field says of a run: the instantaneous loading (at bulk density rho) or the
+    // deposit's runout and height.
+    std::vector<double> quantities(const Eigen::VectorXd& alpha, double bulkDensity) const {
+        if (mixer) return {bulkDensity * clampFraction(alpha).dot(mesh.V)};
+        return {shape->runoutStar(mesh, alpha), shape->heightStar(mesh, alpha)};
+    }
+};
 }  // namespace
 
 nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string& campaign, const RegressionCheckOptions& o) {
-    if (!fs::exists(ledger)) throw InputError("dir", ledger.parent_path().string(), "a campaign directory with a ledger.sqlite");
-    const store::Ledger l(ledger);
-    if (!l.campaign(campaign)) throw InputError("campaign", campaign, "a campaign of " + ledger.string());
-    std::vector<store::LedgerRun> runs;
-    for (auto& r : l.runs(campaign))
-        if (r.status == "done" && fs::exists(fs::path(r.runDir) / "snapshots.h5")) runs.push_back(r);
-    if (runs.size() < 3)
-        throw InputError("campaign", campaign, "three or more finished runs with snapshots (campaign run --snapshots)");
-
-    // Inputs: the design's parameters that vary.
-    std::vector<std::string> inputs;
-    for (const auto& [k, v] : runs.front().params.items()) {
-        if (!v.is_number()) continue;
-        bool varies = false;
-        for (const auto& r : runs) varies = varies || r.params.at(k).get<double>() != v.get<double>();
-        if (varies) inputs.push_back(k);
-    }
-    if (inputs.empty()) throw InputError("campaign", campaign, "a design whose inputs vary");
-    const auto n = static_cast<Eigen::Index>(runs.size());
-    const auto d = static_cast<Eigen::Index>(inputs.size());
-
-    std::vector<store::SnapshotFile> files;
-    for (const auto& r : runs) files.emplace_back(fs::path(r.runDir) / "snapshots.h5");
-    for (const auto& f : files)
-        if (f.meshFingerprint() != files.front().meshFingerprint())
-            throw InputError("campaign", campaign, "runs on one mesh (" + f.path().string() + " differs)");
-    const std::string scene = files.front().params().value("scene", std::string());
-    const bool mixer = scene == "mixer3d";
-    if (!mixer && scene != "collapse2d") throw InputError("scene", scene, "mixer3d or collapse2d runs");
-    const Eigen::VectorXd V = files.front().cellVolumes();
-    const FvMesh mesh = FvMesh::fromCase(files.front());
-    std::optional<CollapseShape> shape;
-    if (!mixer) shape = CollapseShape::fromCase(files.front());
-
-    Eigen::MatrixXd X(n, d), F(static_cast<Eigen::Index>(files.front().cells()), n);
-    std::vector<std::string> qois = mixer ? std::vector<std::string>{"loading_kg"} : std::vector<std::string>{"runout_star", "height_star"};
-    Eigen::MatrixXd Q(n, static_cast<Eigen::Index>(qois.size()));
-    std::vector<double> rho(static_cast<size_t>(n));
-    for (Eigen::Index i = 0; i < n; ++i) {
-        const auto& r = runs[static_cast<size_t>(i)];
-        for (Eigen::Index k = 0; k < d; ++k) X(i, k) = r.params.at(inputs[static_cast<size_t>(k)]).get<double>();
-        const auto& f = files[static_cast<size_t>(i)];
-        F.col(i) = f.column("alpha", f.times().size() - 1);
-        for (size_t q = 0; q < qois.size(); ++q) Q(i, static_cast<Eigen::Index>(q)) = r.result.at(qois[q]).get<double>();
-        if (mixer) rho[static_cast<size_t>(i)] = f.params().at("material.bulk_density_kg_m3").get<double>();
-    }
-    // What the field says of the run: the instantaneous loading or the deposit's runout and height.
-    const auto quantities = [&](const Eigen::VectorXd& alpha, size_t i) {
-        if (mixer) return std::vector<double>{rho[i] * clampFraction(alpha).dot(V)};
-        return std::vector<double>{shape->runoutStar(mesh, alpha), shape->heightStar(mesh, alpha)};
-    };
-
+    const auto c = CampaignFields::load(ledger, campaign);
+    const auto& X = c.X;
+    const auto n = X.rows(), d = X.cols();
     nlohmann::json rows = nlohmann::json::array();
-    std::vector<double> regErr(qois.size(), 0), krigErr(qois.size(), 0), fieldErr(qois.size(), 0);
+    std::vector<double> regErr(c.qois.size(), 0), krigErr(c.qois.size(), 0), fieldErr(c.qois.size(), 0);
     double alphaErr = 0, predictSeconds = 0;
     const Eigen::VectorXd lo = X.colwise().minCoeff().transpose(), span = (X.colwise().maxCoeff().transpose() - lo).cwiseMax(1e-12);
     for (Eigen::Index i = 0; i < n; ++i) {
         const Eigen::MatrixXd Xt = without(X, i);
-        const Eigen::MatrixXd Ft = without(F.transpose(), i).transpose();
-        const auto reg = PodRegression::fit(Xt, Ft, V, o.modes, o.energy);
+        const Eigen::MatrixXd Ft = without(c.F.transpose(), i).transpose();
+        const auto reg = PodRegression::fit(Xt, Ft, c.mesh.V, o.modes, o.energy);
         const auto t0 = Clock::now();
         const Eigen::VectorXd alpha = reg.predict(X.row(i).transpose());
-        const auto q = quantities(alpha, static_cast<size_t>(i));
+        const auto q = c.quantities(alpha, c.rho[static_cast<size_t>(i)]);
         predictSeconds += secondsSince(t0) / static_cast<double>(n);
-        const auto qStored = quantities(F.col(i), static_cast<size_t>(i));
-        const double aErr = std::sqrt((alpha - F.col(i)).cwiseAbs2().dot(V) / F.col(i).cwiseAbs2().dot(V));
+        const auto qStored = c.quantities(c.F.col(i), c.rho[static_cast<size_t>(i)]);
+        const double aErr = std::sqrt((alpha - c.F.col(i)).cwiseAbs2().dot(c.mesh.V) / c.F.col(i).cwiseAbs2().dot(c.mesh.V));
         alphaErr += aErr / static_cast<double>(n);
-        nlohmann::json row{{"run", runs[static_cast<size_t>(i)].index}, {"alpha_error", aErr}, {"modes", reg.modes()}};
-        for (Eigen::Index k = 0; k < d; ++k) row[inputs[static_cast<size_t>(k)]] = X(i, k);
+        nlohmann::json row{{"run", c.runs[static_cast<size_t>(i)].index}, {"alpha_error", aErr}, {"modes", reg.modes()}};
+        for (Eigen::Index k = 0; k < d; ++k) row[c.inputs[static_cast<size_t>(k)]] = X(i, k);
         Eigen::MatrixXd Xs(n - 1, d);
         for (Eigen::Index j = 0; j < n - 1; ++j) Xs.row(j) = (Xt.row(j).transpose() - lo).cwiseQuotient(span).transpose();
         const Eigen::VectorXd xs = (X.row(i).transpose() - lo).cwiseQuotient(span);
-        for (size_t k = 0; k < qois.size(); ++k) {
-            const double truth = Q(i, static_cast<Eigen::Index>(k));
-            const Eigen::VectorXd yt = without(Q.col(static_cast<Eigen::Index>(k)), i);
+        for (size_t k = 0; k < c.qois.size(); ++k) {
+            const double truth = c.Q(i, static_cast<Eigen::Index>(k));
+            const Eigen::VectorXd yt = without(c.Q.col(static_cast<Eigen::Index>(k)), i);
             const auto kr = surrogates::Kriging::fit(Xs, yt, surrogates::KrigingOptions{});
             auto ws = kr.makeWorkspace();
             const double kq = kr.predictMean(xs.data(), ws);
-            row[qois[k]] = {{"full", truth},
-                            {"from_stored_field", qStored[k]},
-                            {"pod_regression", q[k]},
-                            {"kriging", kq},
-                            {"pod_regression_error", (q[k] - truth) / truth},
-                            {"kriging_error", (kq - truth) / truth}};
+            row[c.qois[k]] = {{"full", truth},
+                              {"from_stored_field", qStored[k]},
+                              {"pod_regression", q[k]},
+                              {"kriging", kq},
+                              {"pod_regression_error", (q[k] - truth) / truth},
+                              {"kriging_error", (kq - truth) / truth}};
             regErr[k] += std::abs(q[k] - truth) / std::abs(truth) / static_cast<double>(n);
             krigErr[k] += std::abs(kq - truth) / std::abs(truth) / static_cast<double>(n);
             fieldErr[k] += std::abs(qStored[k] - truth) / std::abs(truth) / static_cast<double>(n);
@@ -122,19 +136,65 @@ nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string
         rows.push_back(row);
     }
     nlohmann::json summary = nlohmann::json::object();
-    for (size_t k = 0; k < qois.size(); ++k)
-        summary[qois[k]] = {{"pod_regression_mean_abs_error", regErr[k]},
-                            {"kriging_mean_abs_error", krigErr[k]},
-                            {"stored_field_mean_abs_error", fieldErr[k]}};
+    for (size_t k = 0; k < c.qois.size(); ++k)
+        summary[c.qois[k]] = {{"pod_regression_mean_abs_error", regErr[k]},
+                              {"kriging_mean_abs_error", krigErr[k]},
+                              {"stored_field_mean_abs_error", fieldErr[k]}};
     return {{"campaign", campaign},
-            {"scene", scene},
+            {"scene", c.scene},
             {"runs", n},
-            {"inputs", inputs},
-            {"cells", files.front().cells()},
+            {"inputs", c.inputs},
+            {"cells", c.mesh.cells},
             {"alpha_error_mean", alphaErr},
             {"predict_seconds", predictSeconds},
             {"summary", summary},
             {"rows", rows}};
+}
+
+nlohmann::json campaignRegressionPredict(const fs::path& ledger, const std::string& campaign, const RegressionCheckOptions& o,
+                                         const std::map<std::string, double>& point, const fs::path& fieldsFile) {
+    const auto c = CampaignFields::load(ledger, campaign);
+    Eigen::VectorXd x(c.X.cols());
+    for (size_t k = 0; k < c.inputs.size(); ++k) {
+        const auto it = point.find(c.inputs[k]);
+        if (it == point.end()) throw InputError("at", c.inputs[k] + " missing", "a value for every varying input of the campaign");
+        x[static_cast<Eigen::Index>(k)] = it->second;
+    }
+    for (const auto& [k, v] : point)
+        if (std::find(c.inputs.begin(), c.inputs.end(), k) == c.inputs.end())
+            throw InputError("at", k, "one of the campaign's varying inputs");
+    // The training box: a regression outside it extrapolates, which it says.
+    nlohmann::json warnings = nlohmann::json::array();
+    for (Eigen::Index k = 0; k < x.size(); ++k) {
+        const double lo = c.X.col(k).minCoeff(), hi = c.X.col(k).maxCoeff();
+        if (x[k] < lo || x[k] > hi)
+            warnings.push_back("outside the training box: " + c.inputs[static_cast<size_t>(k)] + " = " + std::to_string(x[k]) +
+                               " (trained on " + std::to_string(lo) + " .. " + std::to_string(hi) + ")");
+    }
+    const auto reg = PodRegression::fit(c.X, c.F, c.mesh.V, o.modes, o.energy);
+    const auto t0 = Clock::now();
+    const Eigen::VectorXd alpha = reg.predict(x);
+    const auto rhoIt = point.find("rho");
+    const double rho = rhoIt != point.end() ? rhoIt->second : c.rho.front();
+    const auto q = c.quantities(alpha, rho);
+    const double seconds = secondsSince(t0);
+    nlohmann::json out{{"campaign", campaign}, {"scene", c.scene}, {"runs", c.X.rows()}, {"modes", reg.modes()},
+                       {"predict_seconds", seconds}, {"warnings", warnings}};
+    for (size_t k = 0; k < c.inputs.size(); ++k) out["at"][c.inputs[k]] = x[static_cast<Eigen::Index>(k)];
+    for (size_t k = 0; k < c.qois.size(); ++k) out[c.qois[k]] = q[k];
+    if (!fieldsFile.empty()) {
+        store::writeDerivedSnapshots(c.files.front(), {0.0}, {{"alpha", alpha}},
+                                     {{"mixload_version", kVersion},
+                                      {"git_commit", kGitCommit},
+                                      {"written_by", "mixload rom regression (POD regression of campaign " + campaign + ")"},
+                                      {"at", out["at"].dump()},
+                                      {"scene_kind", c.scene},
+                                      {"scene_hash", "none (reduced model)"},
+                                      {"openfoam_version", "none (reduced model)"}},
+                                     fieldsFile);
+        out["fields"] = fs::absolute(fieldsFile).string();
+    }
+    return out;
 }
 
 }  // namespace mixload::rom

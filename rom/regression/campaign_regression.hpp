@@ -8,6 +8,7 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -23,5 +24,12 @@ struct RegressionCheckOptions {
 // different meshes, or inputs that do not vary.
 nlohmann::json campaignRegressionCheck(const std::filesystem::path& ledger, const std::string& campaign,
                                        const RegressionCheckOptions& options);
+
+// The regression fitted on every run, at a new point (a value for each varying input): the
+// quantity (M, or L*f and H*f) and, when fieldsFile is given, the predicted alpha as a snapshot
+// file (+ XDMF). A point outside the training box is predicted with a warning.
+nlohmann::json campaignRegressionPredict(const std::filesystem::path& ledger, const std::string& campaign,
+                                         const RegressionCheckOptions& options, const std::map<std::string, double>& point,
+                                         const std::filesystem::path& fieldsFile);
 
 }  // namespace mixload::rom

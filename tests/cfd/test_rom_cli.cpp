@@ -133,6 +133,26 @@ TEST(RomRegression, LeavesEachCampaignRunOutAndPredictsIt) {
     EXPECT_LT(j["summary"]["runout_star"]["pod_regression_mean_abs_error"].get<double>(), 0.25);
     EXPECT_LT(j["alpha_error_mean"].get<double>(), 0.5);
     EXPECT_LT(j["predict_seconds"].get<double>(), 0.01);
+    // Fitted on all five, at a new point: the quantities and the field as a snapshot file.
+    r = runMixload({"rom", "regression", "--campaign", "reg", "--dir", dir.string(), "--at", "mu_s=1.0", "--at",
+                    "delta_mu=0.4", "--fields", (dir / "at.h5").string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto p = nlohmann::json::parse(r.out);
+    EXPECT_GT(p["runout_star"].get<double>(), 1.0);
+    EXPECT_TRUE(p["warnings"].empty());
+    const store::SnapshotFile at(dir / "at.h5");
+    EXPECT_EQ(at.times().size(), 1u);
+    EXPECT_TRUE(fs::exists(dir / "at.xmf"));
+    // A point missing an input, or naming one the design does not vary, is refused.
+    for (const auto& bad : std::vector<std::vector<std::string>>{{"--at", "mu_s=1.0"},
+                                                                 {"--at", "mu_s=1.0", "--at", "delta_mu=0.4", "--at", "i0=0.3"},
+                                                                 {"--at", "mu_s"}}) {
+        std::vector<std::string> args{"rom", "regression", "--campaign", "reg", "--dir", dir.string()};
+        args.insert(args.end(), bad.begin(), bad.end());
+        const auto b = runMixload(args);
+        EXPECT_EQ(b.rc, 2) << b.err;
+        EXPECT_NE(b.err.find("invalid at"), std::string::npos) << b.err;
+    }
     // A campaign without snapshots is refused, naming what it needs.
     r = runMixload({"campaign", "create", "bare", "--ranges", (dir / "r.toml").string(), "--n", "3", "--mesh", "6", "--dir",
                     dir.string()});
