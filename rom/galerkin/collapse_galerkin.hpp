@@ -14,12 +14,13 @@
 //   sum_j [sum_f V_f rho_f Psi_fk Psi_fj] da_j/dt
 //     = sum_f V_f Psi_fk n_f . interp(-rho (U.grad)U + div(mu (grad U + dev2 grad U^T)))_f
 //       - sum_f |Sf| Psi_fk gh_f (rho_N - rho_O)
-// The mu(I) law needs the pressure, which the projection removed: the model uses the lithostatic
-// pressure of its own powder (rom/collapse_shape), and the check measures that closure's error on
-// the stored fields.
+// The mu(I) law needs the pressure, which the projection removed: the model closes it (below,
+// PressureClosure), and the check measures the closure's error against the stored pressure. The
+// equations themselves are in collapse_flow; checks and predictions in collapse_check.
 //
-// The powder fraction is either kept on the mesh and carried by the reduced flux (van Leer,
-// explicit), or reduced itself (alpha = alpha_0 + X b, the same explicit update projected on X).
+// The powder fraction is either kept on the mesh and carried by the reduced flux (van Leer with
+// interFoam's interface compression, explicit), or reduced itself (alpha = alpha_0 + X b, the same
+// update projected on X).
 // Time: alpha and the flow alternate in steps of the transport's Courant limit; within each, the
 // flow's stiff ODE (the capped viscosity) goes to CVODE's BDF. The model watches its kinetic energy
 // against the potential energy the column can release, and its powder volume, and stops with an
