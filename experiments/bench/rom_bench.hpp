@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The reduced models' benchmark on the collapse (issue 15): full runs at training points and at
 // held-out points (the reference), the POD-Galerkin model built on the training runs' snapshots, a POD
-// regression of the final deposit (rom/pod_regression) and a kriging model of L*f and H*f fitted to
+// regression of the final deposit (rom/regression/pod_regression) and a kriging model of L*f and H*f fitted to
 // the same training runs, each predicting the held-out runs.
 // Per method: the online time per answer, the error in L*f and H*f (and in the fields for the
 // Galerkin model, beside the projection error that bounds it), the offline cost and the number of

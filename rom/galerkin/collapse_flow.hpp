@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The reduced flow equations of the POD-Galerkin collapse (rom/collapse_galerkin): for a powder
+// The reduced flow equations of the POD-Galerkin collapse (rom/galerkin/collapse_galerkin): for a powder
 // fraction held fixed over a step, the densities, the reduced mass matrix and gravity term
 // (Frozen), and for flow coefficients a, the projected convection and viscous stress (faceForce),
 // the rate da/dt, and the pressure the reduced momentum implies. The derivation is in

@@ -28,7 +28,7 @@ struct CollapseShape {
 
 // The lithostatic pressure: in every vertical column of cells, the weight of what lies above each
 // cell centre. Used for the mu(I) law where a reduced model has projected the pressure away; its
-// error against the solver's pressure is measured (rom/collapse_galerkin). Needs a mesh whose cells
+// error against the solver's pressure is measured (rom/galerkin/collapse_check). Needs a mesh whose cells
 // stand in columns (the collapse's blockMesh grid); throws InputError otherwise.
 class ColumnPressure {
   public:

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // How well DEIM reproduces the mu(I) viscosity of stored runs: the viscosity of every snapshot is
-// evaluated from its U and p (rom/fv_operators, rom/granular_viscosity), training snapshots give
+// evaluated from its U and p (rom/operators/fv_operators, rom/operators/granular_viscosity), training snapshots give
 // a POD basis and DEIM points, and every snapshot is reconstructed from its values at those cells.
 // Training on every other stored time leaves the rest as a hold-out. This is the hyper-reduced
 // term's own error, measured before any reduced model runs on it.

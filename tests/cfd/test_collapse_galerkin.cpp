@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The POD-Galerkin collapse model (rom/collapse_galerkin) on a tiny real collapse written 20 times
+// The POD-Galerkin collapse model (rom/galerkin/collapse_galerkin) on a tiny real collapse written 20 times
 // per t*: the parts it is built from on the real mesh (a uniform flow's flux reconstructs exactly,
 // the lithostatic pressure of a uniform column, the van Leer transport conserves and stays
 // free of new extrema), then the model reproducing the run within the errors measured for it (README), its

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The reduced models' finite-volume operators (rom/fv_operators) against OpenFOAM's own fvc on the
+// The reduced models' finite-volume operators (rom/operators/fv_operators) against OpenFOAM's own fvc on the
 // same stored fields: a tiny real collapse (2D, ASCII fields) and a tiny real mixer (3D O-grid,
 // binary fields, rotating walls, inlet and outlet patches), and the mu(I) viscosity against the
 // solver's own viscosity model. OpenFOAM's results come from
