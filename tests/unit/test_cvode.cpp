@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The CVODE wrapper (rom/cvode_integrator): a stiff linear system against its exact solution,
+// The CVODE wrapper (rom/galerkin/cvode_integrator): a stiff linear system against its exact solution,
 // restarts between advances, and an error thrown by the right-hand side reaching the caller.
 #include <gtest/gtest.h>
 
