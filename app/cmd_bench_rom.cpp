@@ -41,7 +41,7 @@ void addBenchRom(CLI::App* bench, Action& action) {
     auto o = std::make_shared<BenchRom>();
     o->scene.cellsPerLength = 8;
     auto* c = bench->add_subcommand(
-        "rom", "Collapse: full runs against the POD-Galerkin model and kriging on held-out (mu_s, mu_d, I0): time and "
+        "rom", "Collapse: full runs against the POD-Galerkin model, POD regression and kriging on held-out (mu_s, mu_d, I0): time and "
                "error per answer, offline cost, break-even");
     o->scene.add(c);
     c->add_option("--train", o->train, "Training points mu_s:mu_d:I0")->capture_default_str();

@@ -133,7 +133,7 @@ std::string plotGalerkin(const nlohmann::json& checks, double tStar, const fs::p
 }  // namespace
 
 void addRom(CLI::App& app, Action& action) {
-    auto* cmd = app.add_subcommand("rom", "Reduced-order models on stored snapshots (POD; see README, Reduced models)");
+    auto* cmd = app.add_subcommand("rom", "Reduced-order models on stored snapshots: POD, DEIM, the POD-Galerkin collapse (build, check, run), POD regression (see README, Reduced models)");
     cmd->require_subcommand(1);
     auto o = std::make_shared<PodCmd>();
     auto* pod = cmd->add_subcommand(
