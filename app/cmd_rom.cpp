@@ -318,9 +318,7 @@ void addRom(CLI::App& app, Action& action) {
                 throw InputError("alpha-energy", std::to_string(bo->opt.alphaEnergy), "(0, 1]");
             std::vector<store::SnapshotFile> train;
             for (const auto& f : bo->files) train.emplace_back(f);
-            std::vector<const store::SnapshotFile*> ptrs;
-            for (const auto& f : train) ptrs.push_back(&f);
-            const auto model = rom::CollapseGalerkin::build(ptrs, bo->opt);
+            const auto model = rom::CollapseGalerkin::build(train, bo->opt);
             rom::writeCollapseModel(model, train.front(), bo->output);
             const nlohmann::json j{{"model", fs::absolute(bo->output).string()},
                                    {"cells", model.mesh.cells},

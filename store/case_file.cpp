@@ -3,8 +3,10 @@
 
 #include <algorithm>
 
+#include "common/clock.hpp"
 #include "common/hash.hpp"
 #include "common/input_error.hpp"
+#include "mixload_version.hpp"
 
 namespace mixload::store {
 
@@ -18,6 +20,14 @@ std::string bytesOf(const std::vector<int32_t>& v) {
     return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(int32_t));
 }
 }  // namespace
+
+void writeFileHeader(hid_t file, const std::string& schema, int version) {
+    h5::attr(file, "schema", schema);
+    h5::attr(file, "schema_version", static_cast<long long>(version));
+    h5::attr(file, "mixload_version", std::string(kVersion));
+    h5::attr(file, "git_commit", std::string(kGitCommit));
+    h5::attr(file, "created_utc", utcNow());
+}
 
 CaseFile::CaseFile(const fs::path& file, const std::string& schema, int minVersion, int maxVersion) : path_(file) {
     namingFile(file, [&] {

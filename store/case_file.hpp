@@ -16,6 +16,10 @@
 
 namespace mixload::store {
 
+// The attributes every mixload file opens with: schema, schema_version, mixload_version, git_commit
+// and created_utc (what a reader checks, and where the file came from).
+void writeFileHeader(hid_t file, const std::string& schema, int version);
+
 class CaseFile {
 public:
     // Opens the file and checks its schema attribute and version range and the mesh; throws

@@ -5,7 +5,6 @@
 #include <cstring>
 
 #include "common/hash.hpp"
-#include "common/clock.hpp"
 #include "common/input_error.hpp"
 #include "store/ledger.hpp"
 #include "store/xdmf.hpp"
@@ -153,16 +152,21 @@ SnapshotSet::SnapshotSet(const std::vector<fs::path>& files) {
     }
 }
 
-std::vector<fs::path> campaignSnapshotFiles(const fs::path& ledger, const std::string& campaign) {
+std::vector<LedgerRun> campaignRunsWithSnapshots(const fs::path& ledger, const std::string& campaign) {
     if (!fs::exists(ledger)) throw InputError("dir", ledger.parent_path().string(), "a campaign directory with a ledger.sqlite");
-    Ledger l(ledger);
+    const Ledger l(ledger);
     if (!l.campaign(campaign)) throw InputError("campaign", campaign, "a campaign of " + ledger.string());
-    std::vector<fs::path> out;
-    for (const auto& r : l.runs(campaign))
-        if (r.status == "done" && fs::exists(fs::path(r.runDir) / "snapshots.h5"))
-            out.push_back(fs::path(r.runDir) / "snapshots.h5");
+    std::vector<LedgerRun> out;
+    for (auto& r : l.runs(campaign))
+        if (r.status == "done" && fs::exists(fs::path(r.runDir) / "snapshots.h5")) out.push_back(std::move(r));
     if (out.empty())
         throw InputError("campaign", campaign, "a campaign whose finished runs kept snapshots (campaign run --snapshots)");
+    return out;
+}
+
+std::vector<fs::path> campaignSnapshotFiles(const fs::path& ledger, const std::string& campaign) {
+    std::vector<fs::path> out;
+    for (const auto& r : campaignRunsWithSnapshots(ledger, campaign)) out.push_back(fs::path(r.runDir) / "snapshots.h5");
     return out;
 }
 
@@ -179,9 +183,7 @@ void writeDerivedSnapshots(const CaseFile& source, const std::vector<double>& ti
         written.emplace_back(storedFieldName(name), comps);
     }
     h5::writeFileAtomically(file, [&](hid_t f) {
-        h5::attr(f, "schema", std::string(kSnapshotSchema));
-        h5::attr(f, "schema_version", 1LL);
-        h5::attr(f, "created_utc", utcNow());
+        writeFileHeader(f, kSnapshotSchema, 1);
         h5::attr(f, "field_precision", std::string("float64"));
         h5::attr(f, "mesh_moves", 0LL);
         for (const auto& [k, v] : provenance.items())

@@ -14,6 +14,7 @@
 
 #include "store/case_file.hpp"
 #include "store/h5_io.hpp"
+#include "store/ledger.hpp"
 
 namespace mixload::store {
 
@@ -81,5 +82,7 @@ private:
 // Throws InputError when the ledger has no such campaign or none of its runs kept snapshots.
 std::vector<std::filesystem::path> campaignSnapshotFiles(const std::filesystem::path& ledger,
                                                          const std::string& campaign);
+// The same runs with their ledger rows (inputs, results, run directory).
+std::vector<LedgerRun> campaignRunsWithSnapshots(const std::filesystem::path& ledger, const std::string& campaign);
 
 }  // namespace mixload::store

@@ -12,6 +12,7 @@
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
 #include "kriging/kriging.hpp"
+#include "kriging/unit_box.hpp"
 #include "post/snapshots.hpp"
 #include "rom/galerkin/collapse_check.hpp"
 #include "rom/regression/pod_regression.hpp"
@@ -91,41 +92,30 @@ nlohmann::json runRomBench(const RomBench& b) {
     say("building the POD-Galerkin model");
     std::vector<store::SnapshotFile> files;
     for (const auto& r : train) files.emplace_back(r.snapshots);
-    std::vector<const store::SnapshotFile*> ptrs;
-    for (const auto& f : files) ptrs.push_back(&f);
-    const auto model = rom::CollapseGalerkin::build(ptrs, b.options);
+    const auto model = rom::CollapseGalerkin::build(files, b.options);
 
     // Kriging on L*f and H*f over (mu_s, mu_d, I0), inputs scaled to the training box.
     const auto nT = static_cast<Eigen::Index>(train.size());
-    Eigen::MatrixXd X(nT, 3);
+    Eigen::MatrixXd Xraw(nT, 3);
     Eigen::VectorXd yL(nT), yH(nT);
-    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = Eigen::Vector3d::Constant(-1e300);
-    const auto raw = [](const CollapsePoint& p) { return Eigen::Vector3d(p.muS, p.muD, p.i0); };
-    for (const auto& r : train) {
-        lo = lo.cwiseMin(raw(r.point));
-        hi = hi.cwiseMax(raw(r.point));
-    }
-    const auto scaled = [&](const CollapsePoint& p) {
-        return Eigen::Vector3d((raw(p) - lo).cwiseQuotient((hi - lo).cwiseMax(1e-12)));
-    };
+    const auto raw = [](const CollapsePoint& p) { return Eigen::VectorXd(Eigen::Vector3d(p.muS, p.muD, p.i0)); };
     for (Eigen::Index i = 0; i < nT; ++i) {
-        X.row(i) = scaled(train[static_cast<size_t>(i)].point).transpose();
+        Xraw.row(i) = raw(train[static_cast<size_t>(i)].point).transpose();
         yL[i] = train[static_cast<size_t>(i)].result["runout_star"].get<double>();
         yH[i] = train[static_cast<size_t>(i)].result["height_star"].get<double>();
     }
+    const auto box = surrogates::UnitBox::of(Xraw);
     auto t0 = Clock::now();
     surrogates::KrigingOptions ko;
-    const auto kL = surrogates::Kriging::fit(X, yL, ko), kH = surrogates::Kriging::fit(X, yH, ko);
+    const auto kL = surrogates::Kriging::fit(box.rows(Xraw), yL, ko), kH = surrogates::Kriging::fit(box.rows(Xraw), yH, ko);
     const double krigingFit = secondsSince(t0);
 
     // POD regression of the final deposit: the last stored alpha of each training run.
     t0 = Clock::now();
     const auto& mesh = model.mesh;
-    Eigen::MatrixXd finals(mesh.cells, nT), Xraw(nT, 3);
-    for (Eigen::Index i = 0; i < nT; ++i) {
+    Eigen::MatrixXd finals(mesh.cells, nT);
+    for (Eigen::Index i = 0; i < nT; ++i)
         finals.col(i) = files[static_cast<size_t>(i)].column("alpha", files[static_cast<size_t>(i)].times().size() - 1);
-        Xraw.row(i) = raw(train[static_cast<size_t>(i)].point).transpose();
-    }
     const auto regression = rom::PodRegression::fit(Xraw, finals, mesh.V, 0);
     const double regressionFit = secondsSince(t0);
 
@@ -136,7 +126,7 @@ nlohmann::json runRomBench(const RomBench& b) {
         const store::SnapshotFile f(r.snapshots);
         const auto c = rom::checkCollapse(model, f);
         auto ws = kL.makeWorkspace();
-        const Eigen::Vector3d x = scaled(r.point);
+        const Eigen::VectorXd x = box(raw(r.point));
         // Many calls: one is far below the clock's resolution.
         t0 = Clock::now();
         double L = 0, H = 0;

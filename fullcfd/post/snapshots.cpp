@@ -10,9 +10,7 @@
 #include <sstream>
 
 #include "common/atomic_file.hpp"
-#include "common/clock.hpp"
 #include "common/input_error.hpp"
-#include "mixload_version.hpp"
 #include "post/foam_files.hpp"
 #include "store/h5_io.hpp"
 #include "store/snapshot_file.hpp"
@@ -148,14 +146,10 @@ nlohmann::json exportSnapshots(const SnapshotExport& e) {
     std::vector<std::pair<std::string, int>> written;
     std::vector<double> timeValues;
     h5::writeFileAtomically(out, [&](hid_t file) {
-        h5::attr(file, "schema", std::string(store::kSnapshotSchema));
-        h5::attr(file, "schema_version", static_cast<long long>(store::kSnapshotSchemaVersion));
-        h5::attr(file, "mixload_version", std::string(kVersion));
-        h5::attr(file, "git_commit", std::string(kGitCommit));
+        store::writeFileHeader(file, store::kSnapshotSchema, store::kSnapshotSchemaVersion);
         h5::attr(file, "openfoam_version", std::string(MIXLOAD_OPENFOAM_VERSION));
         h5::attr(file, "scene_hash", sceneJson.value("hash", std::string()));
         h5::attr(file, "scene_kind", sceneJson["scene"].value("scene", std::string()));
-        h5::attr(file, "created_utc", utcNow());
         h5::attr(file, "run_dir", fs::absolute(run).string());
         h5::attr(file, "solver_provenance", solverProvenance.dump());
         h5::attr(file, "field_precision", std::string(e.float64 ? "float64" : "float32"));

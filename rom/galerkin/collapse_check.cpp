@@ -14,11 +14,6 @@ namespace fs = std::filesystem;
 
 namespace {
 double weightedNorm(const Eigen::VectorXd& x, const Eigen::VectorXd& w) { return std::sqrt(x.cwiseAbs2().dot(w)); }
-Eigen::VectorXd perComponent(const Eigen::VectorXd& V) {  // cell volumes repeated for 3 components
-    Eigen::VectorXd w(3 * V.size());
-    for (Eigen::Index c = 0; c < V.size(); ++c) w.segment<3>(3 * c).setConstant(V[c]);
-    return w;
-}
 }  // namespace
 
 nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::SnapshotFile& f) {
@@ -30,26 +25,9 @@ nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::Snapsho
     const auto& options = rom.options;
     const auto& m = rom.mesh;
     const auto& times = f.times();
-    const Eigen::VectorXd wU = perComponent(m.V);
+    const Eigen::VectorXd wU = m.V.replicate(1, 3).transpose().reshaped();  // per component of a cell
     bool trainedOn = false;
     for (const auto& t : rom.trainFiles) trainedOn = trainedOn || fs::absolute(t) == fs::absolute(f.path());
-
-    // The pressure closure on the stored fields: lithostatic against the solver's p, in the powder,
-    // and what it does to the mu(I) viscosity there.
-    const ColumnPressure lith(m, rom.gravity);
-    double pErr = 0, nuErr = 0, pModel = 0;
-    std::vector<double> pErrAt(times.size()), pModelAt(times.size());
-    for (size_t i = 0; i < times.size(); ++i) {
-        const Eigen::VectorXd al = clampFraction(f.column("alpha", i));
-        const Eigen::VectorXd rho = (rom.airRho + (rom.law.rho - rom.airRho) * al.array()).matrix();
-        const Eigen::VectorXd p = f.column("p", i), pl = lith(rho);
-        const Eigen::VectorXd w = al.cwiseProduct(m.V);
-        pErrAt[i] = weightedNorm(pl - p, w) / weightedNorm(p, w);
-        pErr += pErrAt[i];
-        const Eigen::VectorXd sr = strainRate(m, asVectors(f.column("U", i)), asVectors(f.boundaryColumn("U", i)));
-        const Eigen::VectorXd nu = rom.law.nu(sr, p), nul = rom.law.nu(sr, pl);
-        nuErr += weightedNorm(nul - nu, w) / weightedNorm(nu, w);
-    }
 
     // Linear in time between stored times (the diagnoses).
     const auto storedAt = [&](auto column) {
@@ -69,59 +47,65 @@ nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::Snapsho
     const CollapseTrajectory tr =
         runCollapseGalerkin(rom, rom.shape.initialAlpha(m), Eigen::VectorXd::Zero(m.faces()), 0.0, times, stored);
 
+    // Every stored time read once: the model against it, the stored fields' own projections on the
+    // bases (the lower bounds), and the lithostatic closure on the stored fields (against the
+    // solver's p, in the powder, and what it does to the mu(I) viscosity there). U errors are
+    // relative to the run's peak |U|, known only after the last time.
+    const ColumnPressure lith(m, rom.gravity);
+    std::vector<double> uErr(times.size()), uProj(times.size());
     double peakU = 0;
-    std::vector<Eigen::VectorXd> Us;
-    for (size_t i = 0; i < times.size(); ++i) {
-        Us.push_back(f.column("U", i));
-        peakU = std::max(peakU, weightedNorm(Us.back(), wU));
-    }
-
     nlohmann::json rows = nlohmann::json::array();
-    double aSum = 0, aMax = 0, uSum = 0, uMax = 0, aHold = 0, uHold = 0, aProjSum = 0, uProjSum = 0;
-    int held = 0;
+    double aSum = 0, aMax = 0, aProjSum = 0, pModel = 0, pLith = 0, nuLith = 0;
     for (size_t i = 0; i < times.size(); ++i) {
-        const bool trained = trainedOn && i % static_cast<size_t>(options.trainEvery) == 0;
-        const Eigen::VectorXd as = f.column("alpha", i);
+        const Eigen::VectorXd as = f.column("alpha", i), p = f.column("p", i), Us = f.column("U", i);
+        const Eigen::VectorXd al = clampFraction(as), w = al.cwiseProduct(m.V);
+        const Eigen::VectorXd rho = (rom.airRho + (rom.law.rho - rom.airRho) * al.array()).matrix();
+        const Eigen::VectorXd pl = lith(rho);
+        const double pLithAt = weightedNorm(pl - p, w) / weightedNorm(p, w);
+        const Eigen::VectorXd sr = strainRate(m, asVectors(Us), asVectors(f.boundaryColumn("U", i)));
+        nuLith += weightedNorm(rom.law.nu(sr, pl) - rom.law.nu(sr, p), w) / weightedNorm(rom.law.nu(sr, p), w);
+        const double pModelAt = weightedNorm(tr.pressure[i] - p, w) / weightedNorm(p, w);
+
         const Eigen::VectorXd& ar = tr.alpha[i];
         const double aErr = weightedNorm(ar - as, m.V) / weightedNorm(as, m.V);
-        const Eigen::VectorXd Ur = rom.cellU * tr.flow[i];
-        const double uErr = weightedNorm(Ur - Us[i], wU) / peakU;
-        {
-            const Eigen::VectorXd w = clampFraction(as).cwiseProduct(m.V), ps = f.column("p", i);
-            pModelAt[i] = weightedNorm(tr.pressure[i] - ps, w) / weightedNorm(ps, w);
-            pModel += pModelAt[i];
-        }
-        // Lower bounds: the stored fields' own projections on the bases.
-        const Eigen::VectorXd phi = f.faceColumn("phi", i);
-        const Eigen::VectorXd aProj = rom.flow.project(phi.cwiseQuotient(m.magSf));
-        const double uProj = weightedNorm(rom.cellU * aProj - Us[i], wU) / peakU;
+        peakU = std::max(peakU, weightedNorm(Us, wU));
+        uErr[i] = weightedNorm(rom.cellU * tr.flow[i] - Us, wU);
+        const Eigen::VectorXd aProj = rom.flow.project(f.faceColumn("phi", i).cwiseQuotient(m.magSf));
+        uProj[i] = weightedNorm(rom.cellU * aProj - Us, wU);
         double alphaProj = 0;
         if (rom.alpha)
             alphaProj = weightedNorm(rom.alphaLift + rom.alpha->reconstruct(rom.alpha->project(as - rom.alphaLift)) - as, m.V) /
                         weightedNorm(as, m.V);
         rows.push_back({{"t", times[i]},
-                        {"trained", trained},
+                        {"trained", trainedOn && i % static_cast<size_t>(options.trainEvery) == 0},
                         {"alpha_error", aErr},
                         {"alpha_projection_error", alphaProj},
-                        {"u_error", uErr},
-                        {"u_projection_error", uProj},
                         {"runout_star", rom.shape.runoutStar(m, ar)},
                         {"runout_star_full", rom.shape.runoutStar(m, as)},
                         {"height_star", rom.shape.heightStar(m, ar)},
                         {"height_star_full", rom.shape.heightStar(m, as)},
-                        {"pressure_error", pModelAt[i]},
-                        {"lithostatic_pressure_error", pErrAt[i]},
+                        {"pressure_error", pModelAt},
+                        {"lithostatic_pressure_error", pLithAt},
                         {"kinetic_energy_j", tr.kineticEnergy[i]},
                         {"powder_volume_m3", tr.powderVolume[i]}});
         aSum += aErr;
-        uSum += uErr;
-        aProjSum += alphaProj;
-        uProjSum += uProj;
         aMax = std::max(aMax, aErr);
-        uMax = std::max(uMax, uErr);
-        if (!trained) {
-            aHold += aErr;
-            uHold += uErr;
+        aProjSum += alphaProj;
+        pModel += pModelAt;
+        pLith += pLithAt;
+    }
+    double uSum = 0, uMax = 0, uProjSum = 0, aHold = 0, uHold = 0;
+    int held = 0;
+    for (size_t i = 0; i < times.size(); ++i) {
+        auto& row = rows[i];
+        row["u_error"] = uErr[i] / peakU;
+        row["u_projection_error"] = uProj[i] / peakU;
+        uSum += uErr[i] / peakU;
+        uMax = std::max(uMax, uErr[i] / peakU);
+        uProjSum += uProj[i] / peakU;
+        if (!row["trained"].get<bool>()) {
+            aHold += row["alpha_error"].get<double>();
+            uHold += uErr[i] / peakU;
             ++held;
         }
     }
@@ -146,8 +130,8 @@ nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::Snapsho
                          : options.pressure == PressureClosure::recovered ? "recovered" : "lithostatic"},
             {"flux", options.storedFlux ? "stored (diagnosis)" : "reduced"},
             {"pressure_error_mean", pModel / n},
-            {"lithostatic_pressure_error", pErr / n},
-            {"lithostatic_viscosity_error", nuErr / n},
+            {"lithostatic_pressure_error", pLith / n},
+            {"lithostatic_viscosity_error", nuLith / n},
             {"alpha_error_mean", aSum / n},
             {"alpha_error_max", aMax},
             {"alpha_projection_error_mean", aProjSum / n},

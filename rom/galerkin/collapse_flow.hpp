@@ -49,7 +49,6 @@ class CollapseFlow {
 
     double potentialEnergy(const Eigen::VectorXd& alpha) const;
 
-    const ColumnPressure& pressure() const { return pressure_; }
 
   private:
     const CollapseGalerkin& r_;

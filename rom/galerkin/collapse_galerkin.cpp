@@ -53,16 +53,15 @@ CollapseGalerkin CollapseGalerkin::fromCase(const store::CaseFile& f) {
     return r;
 }
 
-CollapseGalerkin CollapseGalerkin::build(const std::vector<const store::SnapshotFile*>& files,
-                                         const CollapseGalerkinOptions& o) {
+CollapseGalerkin CollapseGalerkin::build(const std::vector<store::SnapshotFile>& files, const CollapseGalerkinOptions& o) {
     const auto t0 = Clock::now();
     if (files.empty()) throw InputError("FILES", "(none)", "one or more collapse snapshot files");
     if (o.trainEvery < 1) throw InputError("train-every", std::to_string(o.trainEvery), "1 or more");
     if (o.modes < 0) throw InputError("modes", std::to_string(o.modes), "0 (by energy) or more");
-    const store::SnapshotFile& first = *files.front();
-    for (const auto* f : files)
-        if (f->meshFingerprint() != first.meshFingerprint())
-            throw InputError("snapshot file", f->path().string(), "runs on one mesh (the same aspect ratio and cells as " +
+    const store::SnapshotFile& first = files.front();
+    for (const auto& f : files)
+        if (f.meshFingerprint() != first.meshFingerprint())
+            throw InputError("snapshot file", f.path().string(), "runs on one mesh (the same aspect ratio and cells as " +
                                                                        first.path().string() + ")");
     CollapseGalerkin r = fromCase(first);
     r.options = o;
@@ -71,16 +70,16 @@ CollapseGalerkin CollapseGalerkin::build(const std::vector<const store::Snapshot
 
     // Training columns: every k-th stored time of every file.
     std::vector<std::pair<const store::SnapshotFile*, size_t>> cols;
-    for (const auto* f : files) {
-        r.trainFiles.push_back(f->path().string());
-        const auto t = f->powderTransport();
-        r.sources.push_back({{"file", fs::absolute(f->path()).string()},
-                             {"scene_hash", f->provenance().value("scene_hash", std::string())},
-                             {"times", f->times().size()},
+    for (const auto& f : files) {
+        r.trainFiles.push_back(f.path().string());
+        const auto t = f.powderTransport();
+        r.sources.push_back({{"file", fs::absolute(f.path()).string()},
+                             {"scene_hash", f.provenance().value("scene_hash", std::string())},
+                             {"times", f.times().size()},
                              {"mu_s", t.value("muS", 0.0)},
                              {"mu_d", t.value("muD", 0.0)},
                              {"i0", t.value("I0", 0.0)}});
-        for (size_t i = 0; i < f->times().size(); i += static_cast<size_t>(o.trainEvery)) cols.emplace_back(f, i);
+        for (size_t i = 0; i < f.times().size(); i += static_cast<size_t>(o.trainEvery)) cols.emplace_back(&f, i);
     }
     r.trainTimes = cols.size();
     if (cols.size() < 2) throw InputError("snapshot file", first.path().string(), "at least two training times");

@@ -97,8 +97,7 @@ struct CollapseGalerkin {
 
     // From the snapshots of one or more collapse runs on one mesh (other mu(I) coefficients: a
     // parametric model). The law is the first file's until a check replaces it.
-    static CollapseGalerkin build(const std::vector<const store::SnapshotFile*>& files,
-                                  const CollapseGalerkinOptions& options);
+    static CollapseGalerkin build(const std::vector<store::SnapshotFile>& files, const CollapseGalerkinOptions& options);
     // The case's parts (mesh, law, air, gravity, shape, walls) from a snapshot or model file, no bases.
     static CollapseGalerkin fromCase(const store::CaseFile& f);
     int modes() const { return static_cast<int>(flow.modes.cols()); }

@@ -1,9 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "rom/galerkin/collapse_model_file.hpp"
 
-#include "common/clock.hpp"
 #include "common/input_error.hpp"
-#include "mixload_version.hpp"
 #include "rom/pod/pod_model.hpp"
 #include "store/h5_io.hpp"
 #include "store/snapshot_file.hpp"
@@ -32,11 +30,7 @@ std::vector<double> rowMajor(const Eigen::MatrixXd& m) {  // m's columns become 
 
 void writeCollapseModel(const CollapseGalerkin& m, const store::CaseFile& source, const fs::path& file) {
     h5::writeFileAtomically(file, [&](hid_t f) {
-        h5::attr(f, "schema", std::string(kCollapseModelSchema));
-        h5::attr(f, "schema_version", static_cast<long long>(kCollapseModelSchemaVersion));
-        h5::attr(f, "mixload_version", std::string(kVersion));
-        h5::attr(f, "git_commit", std::string(kGitCommit));
-        h5::attr(f, "created_utc", utcNow());
+        store::writeFileHeader(f, kCollapseModelSchema, kCollapseModelSchemaVersion);
         h5::attr(f, "mesh_fingerprint", m.meshFingerprint);
         h5::attr(f, "options", buildOptions(m.options).dump());
         h5::attr(f, "sources", m.sources.dump());
@@ -99,9 +93,7 @@ void writeCollapseFields(const CollapseGalerkin& m, const fs::path& modelFile, c
         U.col(i) = m.cellU * tr.flow[static_cast<size_t>(i)];
     }
     store::writeDerivedSnapshots(source, tr.times, {{"alpha", alpha}, {"U", U}},
-                                 {{"mixload_version", kVersion},
-                                  {"git_commit", kGitCommit},
-                                  {"written_by", "mixload rom run (POD-Galerkin collapse model)"},
+                                 {{"written_by", "mixload rom run (POD-Galerkin collapse model)"},
                                   {"model", fs::absolute(modelFile).string()},
                                   {"scene_kind", source.params().value("scene", std::string())},
                                   {"scene_hash", "none (reduced model)"},

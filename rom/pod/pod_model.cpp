@@ -5,9 +5,8 @@
 #include <map>
 #include <sstream>
 
-#include "common/clock.hpp"
 #include "common/input_error.hpp"
-#include "mixload_version.hpp"
+#include "store/case_file.hpp"
 #include "store/h5_io.hpp"
 
 namespace mixload::rom {
@@ -122,11 +121,7 @@ PodBasis readBasis(hid_t loc) {
 void writePod(const PodModel& m, const fs::path& file) {
     h5::writeFileAtomically(file, [&](hid_t f) {
         const auto& b = m.basis;
-        h5::attr(f, "schema", std::string(kPodSchema));
-        h5::attr(f, "schema_version", static_cast<long long>(kPodSchemaVersion));
-        h5::attr(f, "mixload_version", std::string(kVersion));
-        h5::attr(f, "git_commit", std::string(kGitCommit));
-        h5::attr(f, "created_utc", utcNow());
+        store::writeFileHeader(f, kPodSchema, kPodSchemaVersion);
         h5::attr(f, "mesh_fingerprint", m.meshFingerprint);
         h5::attr(f, "fields", joined(m.fields));
         h5::attr(f, "cells", static_cast<long long>(m.cells));

@@ -8,12 +8,11 @@
 #include "common/clock.hpp"
 #include "common/input_error.hpp"
 #include "kriging/kriging.hpp"
-#include "mixload_version.hpp"
+#include "kriging/unit_box.hpp"
 #include "rom/galerkin/collapse_shape.hpp"
 #include "rom/operators/alpha_transport.hpp"
 #include "rom/operators/fv_mesh.hpp"
 #include "rom/regression/pod_regression.hpp"
-#include "store/ledger.hpp"
 #include "store/snapshot_file.hpp"
 
 namespace mixload::rom {
@@ -44,12 +43,8 @@ struct CampaignFields {
     std::optional<CollapseShape> shape;
 
     static CampaignFields load(const fs::path& ledger, const std::string& campaign) {
-        if (!fs::exists(ledger)) throw InputError("dir", ledger.parent_path().string(), "a campaign directory with a ledger.sqlite");
-        const store::Ledger l(ledger);
-        if (!l.campaign(campaign)) throw InputError("campaign", campaign, "a campaign of " + ledger.string());
         CampaignFields c;
-        for (auto& r : l.runs(campaign))
-            if (r.status == "done" && fs::exists(fs::path(r.runDir) / "snapshots.h5")) c.runs.push_back(r);
+        c.runs = store::campaignRunsWithSnapshots(ledger, campaign);
         if (c.runs.size() < 3)
             throw InputError("campaign", campaign, "three or more finished runs with snapshots (campaign run --snapshots)");
         for (const auto& [k, v] : c.runs.front().params.items()) {
@@ -100,7 +95,7 @@ nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string
     nlohmann::json rows = nlohmann::json::array();
     std::vector<double> regErr(c.qois.size(), 0), krigErr(c.qois.size(), 0), fieldErr(c.qois.size(), 0);
     double alphaErr = 0, predictSeconds = 0;
-    const Eigen::VectorXd lo = X.colwise().minCoeff().transpose(), span = (X.colwise().maxCoeff().transpose() - lo).cwiseMax(1e-12);
+    const auto box = surrogates::UnitBox::of(X);
     for (Eigen::Index i = 0; i < n; ++i) {
         const Eigen::MatrixXd Xt = without(X, i);
         const Eigen::MatrixXd Ft = without(c.F.transpose(), i).transpose();
@@ -114,9 +109,8 @@ nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string
         alphaErr += aErr / static_cast<double>(n);
         nlohmann::json row{{"run", c.runs[static_cast<size_t>(i)].index}, {"alpha_error", aErr}, {"modes", reg.modes()}};
         for (Eigen::Index k = 0; k < d; ++k) row[c.inputs[static_cast<size_t>(k)]] = X(i, k);
-        Eigen::MatrixXd Xs(n - 1, d);
-        for (Eigen::Index j = 0; j < n - 1; ++j) Xs.row(j) = (Xt.row(j).transpose() - lo).cwiseQuotient(span).transpose();
-        const Eigen::VectorXd xs = (X.row(i).transpose() - lo).cwiseQuotient(span);
+        const Eigen::MatrixXd Xs = box.rows(Xt);
+        const Eigen::VectorXd xs = box(X.row(i).transpose());
         for (size_t k = 0; k < c.qois.size(); ++k) {
             const double truth = c.Q(i, static_cast<Eigen::Index>(k));
             const Eigen::VectorXd yt = without(c.Q.col(static_cast<Eigen::Index>(k)), i);
@@ -184,9 +178,7 @@ nlohmann::json campaignRegressionPredict(const fs::path& ledger, const std::stri
     for (size_t k = 0; k < c.qois.size(); ++k) out[c.qois[k]] = q[k];
     if (!fieldsFile.empty()) {
         store::writeDerivedSnapshots(c.files.front(), {0.0}, {{"alpha", alpha}},
-                                     {{"mixload_version", kVersion},
-                                      {"git_commit", kGitCommit},
-                                      {"written_by", "mixload rom regression (POD regression of campaign " + campaign + ")"},
+                                     {{"written_by", "mixload rom regression (POD regression of campaign " + campaign + ")"},
                                       {"at", out["at"].dump()},
                                       {"scene_kind", c.scene},
                                       {"scene_hash", "none (reduced model)"},

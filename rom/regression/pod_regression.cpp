@@ -10,15 +10,13 @@ PodRegression PodRegression::fit(const Eigen::MatrixXd& X, const Eigen::MatrixXd
     if (X.rows() != fields.cols() || X.rows() < 2)
         throw std::invalid_argument("POD regression: one input row per field column, at least two");
     PodRegression r;
-    r.lo_ = X.colwise().minCoeff().transpose();
-    r.span_ = (X.colwise().maxCoeff().transpose() - r.lo_).cwiseMax(1e-12);
+    r.box_ = surrogates::UnitBox::of(X);
     PodOptions o;
     o.maxModes = modes;
     o.energy = modes > 0 ? 1.0 : energy;
     o.subtractMean = true;
     r.basis_ = computePod(1, [&](size_t) { return fields; }, weights, o);
-    Eigen::MatrixXd Xs(X.rows(), X.cols());
-    for (Eigen::Index i = 0; i < X.rows(); ++i) Xs.row(i) = (X.row(i).transpose() - r.lo_).cwiseQuotient(r.span_).transpose();
+    const Eigen::MatrixXd Xs = r.box_.rows(X);
     surrogates::KrigingOptions ko;
     for (Eigen::Index k = 0; k < r.basis_.modes.cols(); ++k)
         r.coefficient_.push_back(surrogates::Kriging::fit(Xs, r.basis_.coefficients.col(k), ko));
@@ -26,7 +24,7 @@ PodRegression PodRegression::fit(const Eigen::MatrixXd& X, const Eigen::MatrixXd
 }
 
 Eigen::VectorXd PodRegression::predict(const Eigen::VectorXd& x) const {
-    const Eigen::VectorXd xs = (x - lo_).cwiseQuotient(span_);
+    const Eigen::VectorXd xs = box_(x);
     Eigen::VectorXd a(basis_.modes.cols());
     for (size_t k = 0; k < coefficient_.size(); ++k) {
         auto ws = coefficient_[k].makeWorkspace();

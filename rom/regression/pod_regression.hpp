@@ -11,6 +11,7 @@
 #include <Eigen/Dense>
 
 #include "kriging/kriging.hpp"
+#include "kriging/unit_box.hpp"
 #include "rom/pod/pod.hpp"
 
 namespace mixload::rom {
@@ -27,7 +28,7 @@ class PodRegression {
   private:
     PodBasis basis_;
     std::vector<surrogates::Kriging> coefficient_;
-    Eigen::VectorXd lo_, span_;
+    surrogates::UnitBox box_;
 };
 
 }  // namespace mixload::rom

@@ -25,6 +25,18 @@ fs::path collapseSnapshots(const std::string& name, const std::string& cells) {
     EXPECT_EQ(r.rc, 0) << r.err;
     return out / "snapshots.h5";
 }
+// A campaign NAME in dir over the ranges given (TOML text), created with `create` options and run with
+// snapshots kept.
+void snapshotCampaign(const fs::path& dir, const std::string& name, const std::string& ranges,
+                      const std::vector<std::string>& create) {
+    std::ofstream(dir / (name + ".toml")) << ranges;
+    std::vector<std::string> args{"campaign", "create", name, "--ranges", (dir / (name + ".toml")).string(), "--dir", dir.string()};
+    args.insert(args.end(), create.begin(), create.end());
+    auto r = runMixload(args);
+    ASSERT_EQ(r.rc, 0) << r.err;
+    r = runMixload({"campaign", "run", name, "--snapshots", "--dir", dir.string()});
+    ASSERT_EQ(r.rc, 0) << r.err;
+}
 }  // namespace
 
 TEST(RomPod, BasisFileReproducesTheStoredSnapshots) {
@@ -110,16 +122,11 @@ TEST(RomDeim, ViscosityOfARealCollapseIsExactAtFullRankAndReportsItsHoldOut) {
 TEST(RomRegression, LeavesEachCampaignRunOutAndPredictsIt) {
     // Five tiny collapses over (mu_s, delta_mu), run by the campaign driver with snapshots.
     const fs::path dir = scratchDir("rom-regression");
-    {
-        std::ofstream(dir / "r.toml") << "scene = \"collapse\"\n[mu_s]\nmin = 0.8\nmax = 1.3\nunit = \"1\"\n"
-                                         "[delta_mu]\nmin = 0.25\nmax = 0.5\nunit = \"1\"\n";
-    }
-    auto r = runMixload({"campaign", "create", "reg", "--ranges", (dir / "r.toml").string(), "--n", "5", "--mesh", "8",
-                         "--dir", dir.string()});
-    ASSERT_EQ(r.rc, 0) << r.err;
-    r = runMixload({"campaign", "run", "reg", "--snapshots", "--dir", dir.string()});
-    ASSERT_EQ(r.rc, 0) << r.err;
-    r = runMixload({"rom", "regression", "--campaign", "reg", "--dir", dir.string(), "--json"});
+    snapshotCampaign(dir, "reg",
+                     "scene = \"collapse\"\n[mu_s]\nmin = 0.8\nmax = 1.3\nunit = \"1\"\n"
+                     "[delta_mu]\nmin = 0.25\nmax = 0.5\nunit = \"1\"\n",
+                     {"--n", "5", "--mesh", "8"});
+    auto r = runMixload({"rom", "regression", "--campaign", "reg", "--dir", dir.string(), "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["runs"], 5);
@@ -154,7 +161,7 @@ TEST(RomRegression, LeavesEachCampaignRunOutAndPredictsIt) {
         EXPECT_NE(b.err.find("invalid at"), std::string::npos) << b.err;
     }
     // A campaign without snapshots is refused, naming what it needs.
-    r = runMixload({"campaign", "create", "bare", "--ranges", (dir / "r.toml").string(), "--n", "3", "--mesh", "6", "--dir",
+    r = runMixload({"campaign", "create", "bare", "--ranges", (dir / "reg.toml").string(), "--n", "3", "--mesh", "6", "--dir",
                     dir.string()});
     ASSERT_EQ(r.rc, 0) << r.err;
     r = runMixload({"rom", "regression", "--campaign", "bare", "--dir", dir.string()});
@@ -166,13 +173,9 @@ TEST(RomRegression, MixerCampaignReadsItsLoadingFromTheField) {
     // Three tiny mixer runs (gcm250, 1 cm, 0.05 s) over the bulk density: the loading that the stored
     // field gives (rho sum alpha V) is the run's own, so the POD regression's M is comparable.
     const fs::path dir = scratchDir("rom-regression-mixer");
-    { std::ofstream(dir / "r.toml") << "scene = \"mixer\"\n[rho]\nmin = 300\nmax = 450\nunit = \"kg/m3\"\n"; }
-    auto r = runMixload({"campaign", "create", "m", "--ranges", (dir / "r.toml").string(), "--n", "3", "--scene", "gcm250",
-                         "--cell-size", "0.01", "--end-time", "0.05", "--dir", dir.string()});
-    ASSERT_EQ(r.rc, 0) << r.err;
-    r = runMixload({"campaign", "run", "m", "--snapshots", "--dir", dir.string()});
-    ASSERT_EQ(r.rc, 0) << r.err;
-    r = runMixload({"rom", "regression", "--campaign", "m", "--dir", dir.string(), "--json"});
+    snapshotCampaign(dir, "m", "scene = \"mixer\"\n[rho]\nmin = 300\nmax = 450\nunit = \"kg/m3\"\n",
+                     {"--n", "3", "--scene", "gcm250", "--cell-size", "0.01", "--end-time", "0.05"});
+    const auto r = runMixload({"rom", "regression", "--campaign", "m", "--dir", dir.string(), "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["scene"], "mixer3d");
