@@ -53,6 +53,7 @@ struct FormulationCmd {
     std::vector<std::string> variants;
     std::string out = "runs/studies/formulation";
     std::string runs;
+    std::string warmFrom;
     int jobs = 1, np = 1;
     bool json = false;
 };
@@ -234,6 +235,9 @@ void addStudy(CLI::App& app, Action& action) {
     fm->add_option("--runs", fo->runs, "Run store shared between studies (default <out>/runs)");
     fm->add_option("--jobs", fo->jobs, "Concurrent runs")->capture_default_str();
     fm->add_option("--np", fo->np, "MPI ranks per run")->capture_default_str();
+    fm->add_option("--warm-from", fo->warmFrom,
+                   "Start every run from this mixer run directory's latest fields (e.g. a converged reference) "
+                   "instead of the scene's deposit");
     fm->add_flag("--json", fo->json, "Print JSON");
     fm->callback([&action, fo] {
         action = [fo] {
@@ -249,6 +253,7 @@ void addStudy(CLI::App& app, Action& action) {
             st.runs = fo->runs;
             st.jobs = fo->jobs;
             st.np = fo->np;
+            st.warmFrom = fo->warmFrom;
             st.progress = !fo->json;
             const auto r = experiments::runFormulationStudy(st);
             if (fo->json) std::cout << r.dump(2) << '\n';

@@ -8,6 +8,7 @@
 #include "common/atomic_file.hpp"
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
+#include "run/mixer_job.hpp"
 #include "studies/mixer_study.hpp"
 
 namespace mixload::experiments {
@@ -103,9 +104,10 @@ nlohmann::json runFormulationStudy(const FormulationStudy& study) {
     // Every scene is valid before the first run starts.
     std::vector<scene::MixerScene> scenes{study.reference};
     for (const auto& v : study.variants) scenes.push_back(applyVariant(study.reference, v));
+    if (!study.warmFrom.empty()) run::warmSourceTime(study.warmFrom);
     fs::create_directories(study.out);
     const auto results = runMixerScenes(scenes, study.runs.empty() ? study.out / "runs" : study.runs, study.jobs,
-                                        study.np, study.progress, "formulation study");
+                                        study.np, study.progress, "formulation study", study.warmFrom);
     const auto& ref = results[0];
     const bool refOk = ref.contains("loading_kg") && ref.value("steady", false);
     const double m0 = ref.value("loading_kg", NAN);
@@ -115,6 +117,7 @@ nlohmann::json runFormulationStudy(const FormulationStudy& study) {
     std::ostringstream md, csv, dat;
     md << "Reference: " << study.reference.material.name << ", " << study.reference.rpm << " rpm, "
        << study.reference.feedKgH << " kg/h, scene " << study.reference.name << " (" << study.reference.hash()
+       << (study.warmFrom.empty() ? std::string() : ", every run started from " + study.warmFrom.string())
        << "): M = " << (ref.contains("loading_kg") ? std::to_string(m0) : std::string("failed")) << " kg"
        << (refOk ? "" : " (NOT steady: no verdicts)") << "\n\n"
        << "| variant | change | M [kg] | dM model | dM paper | verdict |\n|---|---|---|---|---|---|\n";
@@ -177,6 +180,7 @@ nlohmann::json runFormulationStudy(const FormulationStudy& study) {
     writeFileAtomic(study.out / "table.md", md.str());
     writeFileAtomic(study.out / "table.csv", csv.str());
     nlohmann::json result{{"reference", {{"scene_hash", study.reference.hash()}}},
+                          {"warm_from", study.warmFrom.empty() ? nlohmann::json() : nlohmann::json(study.warmFrom.string())},
                           {"rows", rows},
                           {"pass", pass},
                           {"fail", fail},

@@ -40,6 +40,9 @@ struct FormulationStudy {
     std::filesystem::path runs;  // empty: <out>/runs
     int jobs = 1, np = 1;
     bool progress = false;
+    // Every run (reference and variants) starts from this run directory's latest fields instead of
+    // the scene's deposit: a converged reference bed, so that each run only relaxes to its change.
+    std::filesystem::path warmFrom;
 };
 
 // Runs the reference and every variant (resumable, shared run store) and writes <out>/table.md,

@@ -3,6 +3,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <set>
 #include <sstream>
@@ -105,7 +106,16 @@ std::string cell(const nlohmann::json& v, const char* fmt) {
 }  // namespace
 
 std::vector<nlohmann::json> runMixerScenes(const std::vector<scene::MixerScene>& scenes, const fs::path& runs,
-                                           int jobs, int np, bool progress, const std::string& label) {
+                                           int jobs, int np, bool progress, const std::string& label,
+                                           const fs::path& warmFrom) {
+    std::string suffix;
+    if (!warmFrom.empty()) {
+        run::warmSourceTime(warmFrom);  // refuse a bad source before any run
+        // The source's canonical path names the start: the same source resumes the same runs.
+        char tag[32];
+        std::snprintf(tag, sizeof tag, "-warm-%016zx", std::hash<std::string>{}(fs::weakly_canonical(warmFrom).string()));
+        suffix = tag;
+    }
     fs::create_directories(runs);
     std::vector<nlohmann::json> out(scenes.size());
     runPool<nlohmann::json>(
@@ -114,7 +124,8 @@ std::vector<nlohmann::json> runMixerScenes(const std::vector<scene::MixerScene>&
             run::MixerJob job;
             job.scene = scenes[i];
             job.np = np;
-            job.out = runs / scenes[i].hash();
+            job.out = runs / (scenes[i].hash() + suffix);
+            job.warmFrom = warmFrom;
             try {
                 return run::runMixer(job);
             } catch (const run::RunError& e) {

@@ -24,10 +24,13 @@ struct MixerStudy {
 
 // Runs (or resumes, or reuses) each scene in <runs>/<scene hash> on `jobs` threads and returns what
 // a study keeps of each result (loading, steady verdict, balance, costs, run_dir, history), or
-// {"error": ...} for a run that failed.
+// {"error": ...} for a run that failed. With warmFrom every run starts from that run directory's
+// latest fields, in <runs>/<scene hash>-warm-<source tag>, so that cold and warm runs never share
+// a directory.
 std::vector<nlohmann::json> runMixerScenes(const std::vector<scene::MixerScene>& scenes,
                                            const std::filesystem::path& runs, int jobs, int np, bool progress,
-                                           const std::string& label);
+                                           const std::string& label,
+                                           const std::filesystem::path& warmFrom = {});
 
 // Runs the study and writes <out>/table.csv, <out>/table.md and <out>/study.png (M against feed
 // and against rpm). Returns the rows.

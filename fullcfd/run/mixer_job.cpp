@@ -20,16 +20,6 @@ namespace {
 // Replaces the deposit in <case>/0 by the source run's latest fields. mapFieldsPar keeps the new
 // case's boundary conditions (feed, rotation) and maps only values; cell-volume weights keep the
 // powder volume on a different mesh and copy it exactly on the same one.
-// The source's latest written time; bad input if it is not a mixer run with one.
-double warmSourceTime(const fs::path& source) {
-    const fs::path src = fs::absolute(source);
-    const double t = latestTime(src);
-    if (!fs::exists(src / "system" / "controlDict") || !fs::exists(src / "scene.json") || t <= 0)
-        throw InputError("warm-from", source.string(),
-                         "a mixer run directory with a written time after 0");
-    return t;
-}
-
 nlohmann::json warmStart(const fs::path& caseDir, const fs::path& source) {
     const fs::path src = fs::absolute(source);
     const double t = warmSourceTime(src);
@@ -45,6 +35,15 @@ nlohmann::json warmStart(const fs::path& caseDir, const fs::path& source) {
     return start;
 }
 }  // namespace
+
+double warmSourceTime(const fs::path& source) {
+    const fs::path src = fs::absolute(source);
+    const double t = latestTime(src);
+    if (!fs::exists(src / "system" / "controlDict") || !fs::exists(src / "scene.json") || t <= 0)
+        throw InputError("warm-from", source.string(),
+                         "a mixer run directory with a written time after 0");
+    return t;
+}
 
 fs::path defaultMixerDir(const scene::MixerScene& s, int np) {
     return fs::path("runs") / ("mixer-" + s.hash() + (np > 1 ? "-np" + std::to_string(np) : ""));

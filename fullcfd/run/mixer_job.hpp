@@ -29,6 +29,10 @@ struct MixerJob {
 // <run dir>/result.json. The scene is validated before anything is created.
 nlohmann::json runMixer(const MixerJob& job);
 
+// The latest written time of a warm start's source; InputError (field warm-from) unless it is a
+// mixer run directory with a written time after 0.
+double warmSourceTime(const std::filesystem::path& source);
+
 std::filesystem::path defaultMixerDir(const scene::MixerScene& s, int np);
 
 }  // namespace mixload::run

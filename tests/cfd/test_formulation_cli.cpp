@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // `mixload study formulation` on tiny real runs: the reference and a variant run, the table and
 // the plot are written, a run without a steady verdict gets no pass or fail, and a variant the
-// scene refuses stops the study before any run.
+// scene refuses stops the study before any run; a study started warm from a run.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -49,4 +49,36 @@ TEST(FormulationStudy, AVariantTheSceneRefusesStopsItBeforeAnyRun) {
         EXPECT_NE(r.err.find(needle), std::string::npos) << r.err;
         EXPECT_FALSE(fs::exists(out)) << variant;
     }
+}
+
+TEST(FormulationStudy, WarmFromARunStartsEveryRunFromItsFieldsInRunsOfTheirOwn) {
+    // Every run of the study begins from the source's last fields: the reference with the
+    // source's loading, the denser variant with 1.5 times it (the same powder volume). Warm runs
+    // live beside cold ones under their own names; a bad source stops the study before any run.
+    const fs::path dir = scratchDir("formulation-warm");
+    const auto src = runMixload({"mixer", "--scene", "gcm250", "--cell-size", "0.01", "--end-time", "0.05", "--out",
+                                 (dir / "source").string(), "--json"});
+    ASSERT_EQ(src.rc, 0) << src.err;
+    const double m0 = nlohmann::json::parse(src.out)["final_loading_kg"].get<double>();
+    const auto r = runMixload({"study", "formulation", "--variant", "denser:rho=1.5", "--scene", "gcm250",
+                               "--cell-size", "0.01", "--end-time", "0.03", "--warm-from", (dir / "source").string(),
+                               "--out", (dir / "study").string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["warm_from"], (dir / "source").string());
+    const auto started = [](const nlohmann::json& row) {
+        const fs::path run = row["run_dir"].get<std::string>();
+        EXPECT_NE(run.filename().string().find("-warm-"), std::string::npos) << run;
+        return nlohmann::json::parse(std::ifstream(run / "result.json"));
+    };
+    const auto ref = started(j["reference"]), variant = started(j["rows"][0]);
+    EXPECT_EQ(ref["start"]["warm_from"], fs::absolute(dir / "source").string());
+    EXPECT_NEAR(ref["initial_loading_kg"].get<double>(), m0, 1e-4 * m0);
+    EXPECT_NEAR(variant["initial_loading_kg"].get<double>(), 1.5 * m0, 1e-3 * m0);
+
+    const auto bad = runMixload({"study", "formulation", "--variant", "denser:rho=1.5", "--warm-from",
+                                 (dir / "nothing").string(), "--out", (dir / "bad").string()});
+    EXPECT_EQ(bad.rc, 2) << bad.err;
+    EXPECT_NE(bad.err.find("warm-from"), std::string::npos) << bad.err;
+    EXPECT_FALSE(fs::exists(dir / "bad"));
 }

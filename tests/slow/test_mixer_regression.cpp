@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Regression of the steady loading (label slow: about 30 minutes on one core). The current setup
+// Regression of the steady loading (label slow: about 20 and 40 minutes on one core). The current setup
 // (numerics preset `fast`) must give, at three points of the 1 cm O-grid started from the 0.03 kg
 // deposit, the reference loadings within 1%, and a run started warm from another point's field
 // must reach the cold run's loading within 1%.
@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -37,22 +38,43 @@ nlohmann::json run(const fs::path& out, const Point& p, const std::string& warmF
     EXPECT_EQ(r.rc, 0) << r.err;
     return r.rc == 0 ? nlohmann::json::parse(r.out) : nlohmann::json{};
 }
+
+
+// The cold runs, made once per process (ctest runs each test in a process of its own, so the warm
+// test makes them again: about 20 minutes on one core).
+const std::vector<nlohmann::json>& coldRuns() {
+    static const std::vector<nlohmann::json> cold = [] {
+        const fs::path dir = scratchDir("mixer-regression-cold");
+        std::vector<nlohmann::json> r;
+        for (const auto& p : kPoints) r.push_back(run(dir / ("cold-" + std::to_string(r.size())), p));
+        return r;
+    }();
+    return cold;
+}
 }  // namespace
 
-TEST(MixerRegression, CurrentSetupKeepsTheLoadingAndWarmStartsReachIt) {
-    const fs::path dir = scratchDir("mixer-regression");
-    std::vector<nlohmann::json> cold;
-    for (const auto& p : kPoints) {
-        cold.push_back(run(dir / ("cold-" + std::to_string(cold.size())), p));
-        const auto& r = cold.back();
+TEST(MixerRegression, CurrentSetupKeepsTheLoading) {
+    const auto& cold = coldRuns();
+    for (size_t i = 0; i < cold.size(); ++i) {
+        const auto& r = cold[i];
+        const auto& p = kPoints[i];
         ASSERT_FALSE(r.is_null());
         EXPECT_TRUE(r["steady"].get<bool>());
         EXPECT_TRUE(r["powder_balance_ok"].get<bool>());
         EXPECT_NEAR(r["loading_kg"].get<double>(), p.referenceKg, 0.01 * p.referenceKg)
             << p.rpm << " rpm, " << p.feed << " kg/h";
     }
-    // Warm from the previous point (the first from the last): within the steady tolerance.
+}
+
+// Warm from the previous point (the first from the last): within the steady tolerance. Fails as
+// measured on 2026-11-29 (issue 13, blocked): 39 rpm, 5 kg/h started from the 254 rpm, 45 kg/h
+// field settles at 0.0173 kg, 28% below the cold run, because a start without a resolved bed ends
+// in another state of this scene. Kept as the requirement a warm start has to meet.
+TEST(MixerRegression, WarmStartsReachTheColdLoading) {
+    const auto& cold = coldRuns();
+    const fs::path dir = scratchDir("mixer-regression-warm");
     for (size_t i = 0; i < cold.size(); ++i) {
+        ASSERT_FALSE(cold[i].is_null());
         const size_t from = (i + cold.size() - 1) % cold.size();
         const auto w = run(dir / ("warm-" + std::to_string(i)), kPoints[i],
                            cold[from]["run_dir"].get<std::string>());
