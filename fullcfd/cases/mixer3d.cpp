@@ -154,6 +154,7 @@ std::string controlDict(const scene::MixerScene& s, bool keepAllTimes, bool prof
        << "        tolerance " << num(s.steadyTol) << ";\n"
        << "        flowTolerance " << num(s.steadyFlowTol) << ";\n"
        << "        minTime " << num(s.minTime) << ";\n"
+       << "        maxPowderSpeed " << num(s.divergedPowderSpeed()) << ";  // m/s: above it the run has diverged\n"
        << "        pseudoTime " << (lts ? "yes" : "no") << ";\n"
        << "        zone rotor;\n"
        << "        writeControl writeTime;\n    }\n";

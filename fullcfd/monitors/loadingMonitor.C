@@ -80,6 +80,7 @@ bool Foam::functionObjects::loadingMonitor::read(const dictionary& dict)
     tol_ = dict.get<scalar>("tolerance");
     flowTol_ = dict.get<scalar>("flowTolerance");
     minTime_ = dict.get<scalar>("minTime");
+    maxPowderSpeed_ = dict.getOrDefault<scalar>("maxPowderSpeed", 0);
     pseudoTime_ = dict.get<bool>("pseudoTime");
     zone_ = mesh_.cellZones().findZoneID(dict.getOrDefault<word>("zone", word::null));
     return true;
@@ -154,6 +155,27 @@ bool Foam::functionObjects::loadingMonitor::execute()
             << t << ' ' << M << ' ' << qIn << ' ' << qOut << ' '
             << fed_ << ' ' << out_ << ' ' << maxSpeed << ' ' << Mzone << ' ' << Mdense
             << endl;
+    }
+
+    // A diverged solution can run on with tiny steps and blow the powder out through the outlet;
+    // its history would then settle to a loading that means nothing. Any powder at all counts.
+    if (maxPowderSpeed_ > 0)
+    {
+        const scalar fastest = gMax
+        (
+            pos(alpha.primitiveField() - 0.01)*mag(U.primitiveField())
+        );
+        if (fastest > maxPowderSpeed_)
+        {
+            FatalErrorInFunction
+                << "the solution diverged: powder moving at " << fastest
+                << " m/s at t = " << t << " s, above the bound of "
+                << maxPowderSpeed_ << " m/s (ten times the paddle tips' speed"
+                << " plus the free-fall speed across the bore). No loading is"
+                << " reported. Rerun with a smaller Courant number (--courant)"
+                << " or with every cell counted (--courant-alpha-min 0)."
+                << exit(FatalError);
+        }
     }
 
     if (ts_.empty() || t - ts_.last() >= window_/50)

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "post/mixer_results.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <regex>
@@ -163,8 +164,24 @@ nlohmann::json mixerResult(const scene::MixerScene& s, const fs::path& caseDir) 
              "(--cell-size) or start from a deposit (--initial-loading-kg)";
         r["warning"] = r.contains("warning") ? r["warning"].get<std::string>() + "; " + w.str() : w.str();
     }
+    // Runs made before the monitor stopped diverged solutions: powder beyond the bound anywhere in
+    // the history means the loading that followed is not the model's.
+    if (!lts) {
+        const auto blown = std::find_if(hist.begin(), hist.end(), [&](const auto& h) {
+            return h.maxPowderSpeed > s.divergedPowderSpeed();
+        });
+        if (blown != hist.end()) {
+            std::ostringstream w;
+            w << "the solution diverged at t = " << blown->t << " s (powder at " << blown->maxPowderSpeed
+              << " m/s, above " << s.divergedPowderSpeed() << " m/s): this loading is not the model's";
+            r["diverged"] = true;
+            r["steady"] = false;
+            r["steady_time_s"] = nullptr;
+            r["warning"] = r.contains("warning") ? r["warning"].get<std::string>() + "; " + w.str() : w.str();
+        }
+    }
     r["final_max_powder_speed_m_s"] = last.maxPowderSpeed;
-    if (verdict) r["steady_verdict"] = *verdict;
+    if (verdict && r["steady"].get<bool>()) r["steady_verdict"] = *verdict;
     return r;
 }
 

@@ -158,6 +158,10 @@ void MixerScene::validate() const {
 
 double MixerScene::omega() const { return rpm * 2.0 * kPi / 60.0; }
 
+double MixerScene::divergedPowderSpeed() const {
+    return 10.0 * (omega() * geometry.tipRadius() + std::sqrt(2.0 * gravity * geometry.bore));
+}
+
 double MixerScene::etaMaxValue() const {
     return etaMax ? *etaMax
                   : rheology::rauterEtaMax(material.grainDensity, gravity, etaMaxH.value_or(geometry.bore));

@@ -105,6 +105,9 @@ struct MixerScene {
     std::string meshLabel() const;
     double bulkDensity() const { return material.bulkDensity(); }
     double omega() const;          // [rad/s]
+    // Powder faster than this has left physics: ten times the paddle tips' speed plus the free-fall
+    // speed across the bore [m/s]. The loading monitor stops a run that reaches it.
+    double divergedPowderSpeed() const;
     double revolutionTime() const { return rpm > 0 ? 60.0 / rpm : 1e30; }
     double feedKgS() const { return feedKgH / 3600.0; }
     double feedM3S() const { return feedKgS() / bulkDensity(); }

@@ -18,6 +18,8 @@
 #include "post/snapshots.hpp"
 #include "store/snapshot_file.hpp"
 #include "run/foam_runner.hpp"
+#include "post/mixer_results.hpp"
+#include "scene/mixer_scene.hpp"
 
 using namespace mixload::testing;
 namespace fs = std::filesystem;
@@ -331,4 +333,42 @@ TEST(MixerRun, VerdictReplayReadsAFinishedHistory) {
     r = runMixload({"study", "verdict", a["run_dir"].get<std::string>(), "--steady-tol", "0"});
     EXPECT_EQ(r.rc, 2);
     EXPECT_NE(r.err.find("steady-tol"), std::string::npos) << r.err;
+}
+
+TEST(MixerRun, ADivergedSolutionStopsTheRunWithItsCause) {
+    // A real divergence, measured on 2026-11-30: the default scene on a 2 cm mesh with the paper's
+    // first what-if powder (rho +50%, mu_s -10%), whose Courant limit exempts air cells, blows up at
+    // 0.38 s of flow (powder at 26 m/s, then 1e9 m/s, blown out through the outlet, the run going on
+    // to a "loading"). The monitor stops it with the cause; nothing is reported as a result.
+    const fs::path out = scratchDir("mixer-diverged") / "run";
+    const auto r = runMixload({"mixer", "--scene", "gcm250-v2", "--cell-size", "0.02", "--rho", "494.76", "--mu-s",
+                               "0.279", "--end-time", "1", "--out", out.string(), "--json"});
+    EXPECT_EQ(r.rc, 1) << r.out;
+    EXPECT_NE(r.err.find("the solution diverged: powder moving at"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--courant-alpha-min 0"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out / "result.json"));
+    // Every cell counted in the Courant limit: the same powder runs through the same second.
+    const auto cured = runMixload({"mixer", "--scene", "gcm250-v2", "--cell-size", "0.02", "--rho", "494.76", "--mu-s",
+                                   "0.279", "--end-time", "1", "--courant-alpha-min", "0", "--out",
+                                   (out.parent_path() / "cured").string(), "--json"});
+    ASSERT_EQ(cured.rc, 0) << cured.err;
+    const auto ok = nlohmann::json::parse(cured.out);
+    EXPECT_LT(ok["max_powder_speed_m_s"].get<double>(), 2.0);
+    EXPECT_FALSE(ok.value("diverged", false));
+}
+
+TEST(MixerRun, AHistoryThatDivergedIsNeverASteadyLoading) {
+    // Runs made before the monitor stopped diverged solutions: the real history of the run above
+    // (gcm250-v2, 2 cm, rho +50%, mu_s -10%) up to its blow-up. Its summary flags the divergence,
+    // says when, and gives no steady verdict.
+    const fs::path dir = scratchDir("mixer-diverged-history") / "run";
+    fs::create_directories(dir / "postProcessing" / "loading" / "0");
+    fs::copy_file(fs::path(MIXLOAD_TEST_DATA) / "mixer" / "diverged-loading.dat",
+                  dir / "postProcessing" / "loading" / "0" / "loading.dat");
+    auto s = mixload::scene::loadMixerScene("gcm250-v2");
+    s.material.grainDensity *= 1.5;
+    const auto r = mixload::post::mixerResult(s, dir);
+    EXPECT_TRUE(r.value("diverged", false));
+    EXPECT_FALSE(r["steady"].get<bool>());
+    EXPECT_NE(r["warning"].get<std::string>().find("diverged at t = 0.38"), std::string::npos) << r["warning"];
 }
