@@ -37,7 +37,8 @@ void addMixer(CLI::App& app, Action& action) {
                   "solver iterations)");
     cmd->add_option("--warm-from", o->warmFrom,
                     "Start from the latest fields of this mixer run directory (mapped onto this "
-                    "mesh) instead of the deposit");
+                    "mesh), or from the powder fraction of a .h5 field file of this mesh (e.g. from "
+                    "`rom regression --at ... --fields`), instead of the deposit");
     cmd->add_flag("--json", o->json, "Print the result as JSON");
     cmd->callback([&action, o] {
         action = [o] {

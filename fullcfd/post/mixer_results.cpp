@@ -56,6 +56,8 @@ nlohmann::json readCheckMesh(const fs::path& caseDir) {
     if (std::regex_search(log, r, std::regex(R"(\n\s*cells:\s+(\d+))"))) m["cells"] = std::stol(r[1]);
     if (std::regex_search(log, r, std::regex(R"(Mesh non-orthogonality Max:\s*([0-9.eE+-]+))")))
         m["max_non_orthogonality_deg"] = std::stod(r[1]);
+    if (std::regex_search(log, r, std::regex(R"(Total volume = ([0-9.eE+-]+?)\.?\s)")))
+        m["total_volume_m3"] = std::stod(r[1]);
     if (std::regex_search(log, r, std::regex(R"(Max skewness = ([0-9.eE+-]+))")))
         m["max_skewness"] = std::stod(r[1]);
     m["ok"] = log.find("Mesh OK.") != std::string::npos;

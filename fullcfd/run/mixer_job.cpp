@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "run/mixer_job.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <sstream>
 
 #include "cases/mixer3d.hpp"
 #include "common/atomic_file.hpp"
@@ -11,16 +14,19 @@
 #include "post/run_profile.hpp"
 #include "run/foam_runner.hpp"
 #include "run/run_dir.hpp"
+#include "store/snapshot_file.hpp"
 
 namespace mixload::run {
 
 namespace fs = std::filesystem;
 
 namespace {
+bool isFieldFile(const fs::path& source) { return source.extension() == ".h5"; }
+
 // Replaces the deposit in <case>/0 by the source run's latest fields. mapFieldsPar keeps the new
 // case's boundary conditions (feed, rotation) and maps only values; cell-volume weights keep the
 // powder volume on a different mesh and copy it exactly on the same one.
-nlohmann::json warmStart(const fs::path& caseDir, const fs::path& source) {
+nlohmann::json warmStartFromRun(const fs::path& caseDir, const fs::path& source) {
     const fs::path src = fs::absolute(source);
     const double t = warmSourceTime(src);
     runUtility(caseDir, {"mapFieldsPar", src.string(), "-sourceTime", "latestTime", "-consistent",
@@ -31,17 +37,61 @@ nlohmann::json warmStart(const fs::path& caseDir, const fs::path& source) {
     if (fs::exists(src / "result.json"))
         start["source_loading_kg"] =
             nlohmann::json::parse(readFile(src / "result.json")).value("loading_kg", 0.0);
-    writeFileAtomic(caseDir / "start.json", start.dump(2));
     return start;
+}
+
+// The powder fraction of a field file (its last time: e.g. the field `mixload rom regression --at
+// ... --fields` predicts) as the initial alpha, the air at rest. There is no mapping: the file
+// must hold this case's mesh (the same cells and volume), which the mesh check's numbers verify.
+nlohmann::json warmStartFromField(const scene::MixerScene& s, const fs::path& caseDir, const fs::path& source) {
+    const store::SnapshotFile f(source);
+    const Eigen::VectorXd alpha = f.column("alpha", f.times().size() - 1);
+    const auto mesh = nlohmann::json::parse(readFile(caseDir / "mesh.json"));
+    const long cells = mesh.value("cells", 0L);
+    const double volume = mesh.value("total_volume_m3", 0.0), fileVolume = f.cellVolumes().sum();
+    if (static_cast<long>(alpha.size()) != cells || std::abs(fileVolume - volume) > 1e-6 * volume)
+        throw InputError("warm-from", source.string(),
+                         "a field file of this run's mesh (" + std::to_string(cells) + " cells, " +
+                             std::to_string(volume) + " m3); it holds " + std::to_string(alpha.size()) +
+                             " cells, " + std::to_string(fileVolume) + " m3");
+    std::ostringstream values;
+    values.precision(12);
+    values << "internalField nonuniform List<scalar>\n" << alpha.size() << "\n(\n";
+    for (double a : alpha) values << std::clamp(a, 0.0, 1.0) << '\n';
+    values << ");";
+    const fs::path file = caseDir / "0" / "alpha.powder";
+    std::string text = readFile(file);
+    const std::string uniform = "internalField uniform 0;";
+    text.replace(text.find(uniform), uniform.size(), values.str());
+    writeFileAtomic(file, text);
+    return {{"warm_from", fs::absolute(source).string()},
+            {"source_time_s", f.times().back()},
+            {"field_loading_kg", s.bulkDensity() * alpha.cwiseMax(0.0).cwiseMin(1.0).dot(f.cellVolumes())}};
 }
 }  // namespace
 
 double warmSourceTime(const fs::path& source) {
     const fs::path src = fs::absolute(source);
+    if (isFieldFile(src)) {
+        if (!fs::is_regular_file(src)) throw InputError("warm-from", source.string(), "an existing .h5 field file");
+        try {
+            const store::SnapshotFile f(src);
+            const auto fields = f.fields();
+            const bool alpha = std::find(fields.begin(), fields.end(), "alpha.powder") != fields.end() ||
+                               std::find(fields.begin(), fields.end(), "alpha") != fields.end();
+            if (!alpha || f.times().empty())
+                throw InputError("warm-from", source.string(), "a field file with a stored alpha");
+            return f.times().back();
+        } catch (const InputError&) {
+            throw;
+        } catch (const std::exception& e) {
+            throw InputError("warm-from", source.string(), std::string("a readable field file (") + e.what() + ")");
+        }
+    }
     const double t = latestTime(src);
     if (!fs::exists(src / "system" / "controlDict") || !fs::exists(src / "scene.json") || t <= 0)
         throw InputError("warm-from", source.string(),
-                         "a mixer run directory with a written time after 0");
+                         "a mixer run directory with a written time after 0, or a .h5 field file of its mesh");
     return t;
 }
 
@@ -75,8 +125,13 @@ nlohmann::json runMixer(const MixerJob& job) {
                 throw RunError("checkMesh failed " + std::to_string(mesh.value("failed_checks", 0)) +
                                " checks; see " + (tmp / "log.checkMesh").string());
             cases::writeMixerSolverCase(s, tmp);
-            runUtility(tmp, {"setFields"});
-            if (!job.warmFrom.empty()) warmStart(tmp, job.warmFrom);
+            if (!job.warmFrom.empty() && isFieldFile(job.warmFrom)) {
+                writeFileAtomic(tmp / "start.json", warmStartFromField(s, tmp, job.warmFrom).dump(2));
+            } else {
+                runUtility(tmp, {"setFields"});
+                if (!job.warmFrom.empty())
+                    writeFileAtomic(tmp / "start.json", warmStartFromRun(tmp, job.warmFrom).dump(2));
+            }
         });
         meshSeconds = secondsSince(t0);
     }

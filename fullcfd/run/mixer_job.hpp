@@ -19,7 +19,8 @@ struct MixerJob {
     bool snapshots = false;     // keep every written time and export <run dir>/snapshots.h5
     bool profile = false;       // record where the steps and the time go (result "profile")
     // Warm start: begin from the latest fields of this run directory (any scene, any mesh: the
-    // fields are mapped by cell-volume weights) instead of the scene's deposit.
+    // fields are mapped by cell-volume weights), or from the powder fraction of a .h5 field file
+    // of this run's mesh (air at rest), instead of the scene's deposit.
     std::filesystem::path warmFrom;
     // Campaigns stop long runs here; they resume later from their last written time.
     std::optional<std::chrono::steady_clock::time_point> deadline;
@@ -29,8 +30,8 @@ struct MixerJob {
 // <run dir>/result.json. The scene is validated before anything is created.
 nlohmann::json runMixer(const MixerJob& job);
 
-// The latest written time of a warm start's source; InputError (field warm-from) unless it is a
-// mixer run directory with a written time after 0.
+// The latest time of a warm start's source; InputError (field warm-from) unless it is a mixer run
+// directory with a written time after 0 or a .h5 field file with a stored alpha.
 double warmSourceTime(const std::filesystem::path& source);
 
 std::filesystem::path defaultMixerDir(const scene::MixerScene& s, int np);

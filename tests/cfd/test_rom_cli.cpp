@@ -186,4 +186,23 @@ TEST(RomRegression, MixerCampaignReadsItsLoadingFromTheField) {
     // The loading is a window mean, the field one instant: they differ by the bed's fluctuation.
     EXPECT_LT(s["stored_field_mean_abs_error"].get<double>(), 0.02);
     EXPECT_TRUE(std::isfinite(s["pod_regression_mean_abs_error"].get<double>()));
+
+    // The regression's field at a new point starts a full run there (a warm start without a run):
+    // the run begins with the field's loading; a field of another mesh is refused before any run.
+    const auto at = runMixload({"rom", "regression", "--campaign", "m", "--dir", dir.string(), "--at", "rho=400",
+                                "--fields", (dir / "at400.h5").string(), "--json"});
+    ASSERT_EQ(at.rc, 0) << at.err;
+    const double predicted = nlohmann::json::parse(at.out)["loading_kg"].get<double>();
+    const auto warm = runMixload({"mixer", "--scene", "gcm250", "--cell-size", "0.01", "--rho", "400", "--end-time",
+                                  "0.02", "--warm-from", (dir / "at400.h5").string(), "--out",
+                                  (dir / "warm400").string(), "--json"});
+    ASSERT_EQ(warm.rc, 0) << warm.err;
+    const auto w = nlohmann::json::parse(warm.out);
+    EXPECT_EQ(w["start"]["warm_from"], fs::absolute(dir / "at400.h5").string());
+    EXPECT_NEAR(w["start"]["field_loading_kg"].get<double>(), predicted, 1e-6 * predicted);
+    EXPECT_NEAR(w["initial_loading_kg"].get<double>(), predicted, 1e-3 * predicted);  // one step of flow
+    const auto other = runMixload({"mixer", "--scene", "gcm250", "--cell-size", "0.02", "--end-time", "0.02",
+                                   "--warm-from", (dir / "at400.h5").string(), "--out", (dir / "other").string()});
+    EXPECT_EQ(other.rc, 2) << other.err;
+    EXPECT_NE(other.err.find("a field file of this run's mesh"), std::string::npos) << other.err;
 }
