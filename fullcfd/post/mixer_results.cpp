@@ -169,13 +169,12 @@ nlohmann::json mixerResult(const scene::MixerScene& s, const fs::path& caseDir) 
     // Runs made before the monitor stopped diverged solutions: powder beyond the bound anywhere in
     // the history means the loading that followed is not the model's.
     if (!lts) {
-        const auto blown = std::find_if(hist.begin(), hist.end(), [&](const auto& h) {
-            return h.maxPowderSpeed > s.divergedPowderSpeed();
-        });
+        const double bound = s.divergedPowderSpeed();
+        const auto blown = std::find_if(hist.begin(), hist.end(), [&](const auto& h) { return h.maxPowderSpeed > bound; });
         if (blown != hist.end()) {
             std::ostringstream w;
             w << "the solution diverged at t = " << blown->t << " s (powder at " << blown->maxPowderSpeed
-              << " m/s, above " << s.divergedPowderSpeed() << " m/s): this loading is not the model's";
+              << " m/s, above " << bound << " m/s): this loading is not the model's";
             r["diverged"] = true;
             r["steady"] = false;
             r["steady_time_s"] = nullptr;

@@ -77,9 +77,8 @@ double warmSourceTime(const fs::path& source) {
         try {
             const store::SnapshotFile f(src);
             const auto fields = f.fields();
-            const bool alpha = std::find(fields.begin(), fields.end(), "alpha.powder") != fields.end() ||
-                               std::find(fields.begin(), fields.end(), "alpha") != fields.end();
-            if (!alpha || f.times().empty())
+            if (std::find(fields.begin(), fields.end(), store::storedFieldName("alpha")) == fields.end() ||
+                f.times().empty())
                 throw InputError("warm-from", source.string(), "a field file with a stored alpha");
             return f.times().back();
         } catch (const InputError&) {
