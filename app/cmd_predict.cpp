@@ -199,7 +199,10 @@ int whatif(const WhatifCmd& o) {
                   << " kg, dM = " << p["delta_kg"].get<double>() << " kg (" << std::showpos
                   << 100 * p["delta_rel"].get<double>() << std::noshowpos << "%)";
         if (!p["delta_ci95_kg"].is_null())
-            std::cout << ", 95% interval " << p["delta_ci95_kg"][0].get<double>() << " .. " << p["delta_ci95_kg"][1].get<double>() << " kg";
+            std::cout << ", 95% interval " << p["delta_ci95_kg"][0].get<double>() << " .. " << p["delta_ci95_kg"][1].get<double>()
+                      << " kg (the two predictions' errors correlate by " << p["error_correlation"].get<double>()
+                      << "; taken as independent " << p["delta_ci95_independent_kg"][0].get<double>() << " .. "
+                      << p["delta_ci95_independent_kg"][1].get<double>() << " kg)";
         std::cout << "\n    one input at a time from the base:";
         for (const auto& at : p["attribution"])
             std::cout << ' ' << at["input"].get<std::string>() << ' ' << std::showpos << at["delta_kg"].get<double>()

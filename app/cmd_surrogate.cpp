@@ -22,7 +22,7 @@ struct SurrogateCmd {
                 kernel = "matern52", trend = "constant", objective = "likelihood";
     int holdout = 0, starts = 20;
     unsigned seed = 1;
-    bool noSelect = false, json = false, noRecord = false;
+    bool noSelect = false, json = false, noRecord = false, similarity = false;
     std::optional<double> threshold;
 };
 
@@ -50,6 +50,7 @@ int fit(const SurrogateCmd& o) {
     surrogates::FitOptions f;
     f.kind = o.kind;
     f.transform = o.transform;
+    f.similarity = o.similarity;
     f.select = !o.noSelect;
     try {
         f.kriging.kernel = surrogates::kernelFromString(o.kernel == "se" ? "squared-exponential" : o.kernel);
@@ -77,14 +78,15 @@ int fit(const SurrogateCmd& o) {
                                     {"runs_usable", runs.rows.size()},
                                     {"runs_skipped", runs.skipped},
                                     {"holdout_ids", held},
-                                    {"options", {{"kind", o.kind}, {"transform", o.transform}, {"select", !o.noSelect},
+                                    {"options", {{"kind", o.kind}, {"transform", o.transform}, {"similarity", o.similarity}, {"select", !o.noSelect},
                                                  {"kernel", o.kernel}, {"trend", o.trend}, {"objective", o.objective}, {"starts", o.starts},
                                                  {"seed", o.seed}}},
                                     {"mixload_version", kVersion},
                                     {"git_commit", kGitCommit},
                                     {"created_utc", utcNow()},
                                     {"command", "mixload surrogate fit " + (o.campaign.empty() ? "--table " + o.table : "--campaign " + o.campaign) +
-                                                    " --kind " + o.kind + " --holdout " + std::to_string(o.holdout)}};
+                                                    " --kind " + o.kind + " --holdout " + std::to_string(o.holdout) +
+                                                    (o.similarity ? " --similarity" : "")}};
     const auto t0 = std::chrono::steady_clock::now();
     auto model = surrogates::Surrogate::fit(train, f, provenance);
     const double seconds = secondsSince(t0);
@@ -110,13 +112,13 @@ int info(const SurrogateCmd& o) {
     const auto m = surrogates::Surrogate::load(o.model);
     auto j = m.toJson();
     nlohmann::json out{{"model", o.model},      {"kind", j["kind"]},          {"inputs", j["inputs"]},
-                       {"output", j["output"]}, {"validation", j["validation"]}, {"provenance", j["provenance"]},
+                       {"model_inputs", j["model_inputs"]}, {"output", j["output"]}, {"validation", j["validation"]}, {"provenance", j["provenance"]},
                        {"checks", j["checks"]}, {"warnings", m.warnings()},   {"n_train", m.trainingIds().size()}};
     if (m.kind() == "rsm") {
         const auto& mod = j["model"];
         nlohmann::json terms = nlohmann::json::array();
         std::vector<std::string> names;
-        for (const auto& s : surrogates::kInputSpecs) names.push_back(s.name);
+        for (const auto& s : m.inputs()) names.push_back(s.name);
         for (size_t k = 0; k < mod["terms"].size(); ++k) {
             const surrogates::Term t{mod["terms"][k][0].get<int>(), mod["terms"][k][1].get<int>()};
             terms.push_back({{"term", t.name(names)},
@@ -128,8 +130,8 @@ int info(const SurrogateCmd& o) {
     } else {
         const auto& mod = j["model"];
         nlohmann::json lengths = nlohmann::json::object();
-        for (size_t k = 0; k < surrogates::kInputs && k < mod["lengthScales"].size(); ++k)
-            lengths[surrogates::kInputSpecs[k].name] = mod["lengthScales"][k];
+        for (size_t k = 0; k < m.inputs().size() && k < mod["lengthScales"].size(); ++k)
+            lengths[m.inputs()[k].name] = mod["lengthScales"][k];
         out["hyperparameters"] = {{"kernel", mod.value("kernel", "")},
                                   {"trend", mod.value("trend", "")},
                                   {"length_scales", lengths},  // in scaled inputs, [0, 1] over the box
@@ -145,8 +147,8 @@ int info(const SurrogateCmd& o) {
     std::cout << o.model << ": " << m.kind() << " model of M [kg], " << v.value("transform", "") << ", trained on "
               << m.trainingIds().size() << " runs\n  created " << out["provenance"].value("created_utc", "") << " by mixload "
               << out["provenance"].value("mixload_version", "") << " (" << out["provenance"].value("git_commit", "") << ")\n"
-              << "  source " << out["provenance"]["source"].dump() << "\n  training box:\n";
-    for (const auto& in : out["inputs"])
+              << "  source " << out["provenance"]["source"].dump() << "\n  training box (model inputs):\n";
+    for (const auto& in : out["model_inputs"])
         std::cout << "    " << std::left << std::setw(10) << in["name"].get<std::string>() << std::right << std::setw(12)
                   << in["min"].get<double>() << " .. " << std::setw(12) << in["max"].get<double>() << " "
                   << in["unit"].get<std::string>() << (in["log"].get<bool>() ? "  (log)" : "") << '\n';
@@ -194,6 +196,7 @@ int runCheck(const std::string& modelPath, const std::string& campaign, const st
                               {"source", source},
                               {"n_holdout", r["n_holdout"]},
                               {"mean_rel_error", r["mean_rel_error"]},
+                              {"mean_rel_error_ci90", r["mean_rel_error_ci90"]},
                               {"max_rel_error", r["max_rel_error"]},
                               {"coverage95", r["coverage95"]},
                               {"loo", r["loo"]},
@@ -207,11 +210,15 @@ int runCheck(const std::string& modelPath, const std::string& campaign, const st
     } else if (json) {
         std::cout << r.dump(2) << '\n';
     } else {
+        const auto ci = [](const nlohmann::json& v) {
+            return v.is_null() ? std::string() : " (90% bootstrap " + pct(v[0]) + " .. " + pct(v[1]) + ")";
+        };
         std::cout << "check of " << modelPath << " against " << runs.rows.size() << " full runs\n  hold-out ("
-                  << r["n_holdout"] << " runs): mean " << pct(r["mean_rel_error"]) << ", max " << pct(r["max_rel_error"])
-                  << " relative error, 95% interval coverage " << pct(r["coverage95"]) << "\n  leave-one-out ("
-                  << r["loo"]["n"] << " training runs): mean " << pct(r["loo"]["mean_rel_error"]) << ", max "
-                  << pct(r["loo"]["max_rel_error"]) << ", coverage " << pct(r["loo"]["coverage95"]) << '\n';
+                  << r["n_holdout"] << " runs): mean " << pct(r["mean_rel_error"]) << ci(r["mean_rel_error_ci90"]) << ", max "
+                  << pct(r["max_rel_error"]) << " relative error, 95% interval coverage " << pct(r["coverage95"])
+                  << "\n  leave-one-out (" << r["loo"]["n"] << " training runs): mean " << pct(r["loo"]["mean_rel_error"])
+                  << ci(r["loo"]["mean_rel_error_ci90"]) << ", max " << pct(r["loo"]["max_rel_error"]) << ", coverage "
+                  << pct(r["loo"]["coverage95"]) << '\n';
         if (record) std::cout << "  recorded in the model's check history\n";
     }
     if (failed)
@@ -234,6 +241,8 @@ void addSurrogate(CLI::App& app, Action& action) {
     f->add_option("--holdout", o->holdout, "Keep the last N runs out of training (for `mixload check`)")->capture_default_str();
     f->add_option("--transform", o->transform, "auto (by leave-one-out error) | none | log (log M, log of d, rho, feed, rpm)")
         ->capture_default_str();
+    f->add_flag("--similarity", o->similarity,
+                "Fit M/rho in the similarity variables mu_s, mu_d, d/i0, feed/rho, rpm (exact in the model up to the air's inertia; README, Exact similarity)");
     f->add_flag("--no-select", o->noSelect, "rsm: keep every term of the full quadratic (no PRESS selection)");
     f->add_option("--kernel", o->kernel, "kriging: matern52 | se")->capture_default_str();
     f->add_option("--trend", o->trend, "kriging: constant | linear")->capture_default_str();

@@ -32,11 +32,16 @@ nlohmann::json checkModel(const Surrogate& model, const Table& runs) {
     }
     return {{"n_holdout", hold.n},
             {"mean_rel_error", hold.mean()},
+            {"mean_rel_error_ci90", hold.meanInterval90()},
             {"max_rel_error", hold.maxJson()},
             {"coverage95", hold.coverage()},
             {"holdout", list},
             {"loo",
-             {{"n", loo.n}, {"mean_rel_error", loo.mean()}, {"max_rel_error", loo.maxJson()}, {"coverage95", loo.coverage()}}}};
+             {{"n", loo.n},
+              {"mean_rel_error", loo.mean()},
+              {"mean_rel_error_ci90", loo.meanInterval90()},
+              {"max_rel_error", loo.maxJson()},
+              {"coverage95", loo.coverage()}}}};
 }
 
 }  // namespace mixload::surrogates

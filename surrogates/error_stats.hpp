@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <random>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -13,11 +15,13 @@ namespace mixload::surrogates {
 struct ErrorStats {
     std::size_t n = 0, covered = 0, withInterval = 0;
     double sum = 0, max = 0;
+    std::vector<double> errors;
 
     // A run's loading m against a prediction and its interval (NaN bounds: no interval).
     void add(double m, double pred, double lo, double hi) {
         const double e = std::abs(pred - m) / std::abs(m);
         ++n;
+        errors.push_back(e);
         sum += e;
         max = std::max(max, e);
         if (!std::isnan(lo) && !std::isnan(hi)) {
@@ -28,6 +32,22 @@ struct ErrorStats {
     // null when there is nothing to report
     nlohmann::json mean() const { return n ? nlohmann::json(sum / static_cast<double>(n)) : nlohmann::json(); }
     nlohmann::json maxJson() const { return n ? nlohmann::json(max) : nlohmann::json(); }
+    // 90% bootstrap interval of the mean relative error (percentiles of 2000 resampled means, a
+    // fixed seed: the same runs give the same interval). With a few dozen runs and heavy tails the
+    // mean alone cannot tell two models apart; the interval says whether it can.
+    nlohmann::json meanInterval90() const {
+        if (n < 2) return nlohmann::json();
+        std::mt19937 gen(1);
+        constexpr int kResamples = 2000;
+        std::vector<double> means(kResamples);
+        for (auto& m : means) {
+            double s = 0;
+            for (std::size_t i = 0; i < n; ++i) s += errors[gen() % n];
+            m = s / static_cast<double>(n);
+        }
+        std::sort(means.begin(), means.end());
+        return nlohmann::json::array({means[kResamples / 20], means[kResamples - 1 - kResamples / 20]});
+    }
     nlohmann::json coverage() const {
         return withInterval ? nlohmann::json(static_cast<double>(covered) / static_cast<double>(withInterval))
                             : nlohmann::json();

@@ -3,6 +3,7 @@
 
 #include <gsl/gsl_cdf.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <regex>
@@ -20,12 +21,13 @@ constexpr const char* kSchema = "mixload-surrogate";
 constexpr double kZ95 = 1.959963984540054;
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-bool dimensional(int k) { return std::string(kInputSpecs[static_cast<size_t>(k)].unit) != "1"; }
-
-std::vector<Transform> candidates(const std::string& mode) {
+std::vector<Transform> candidates(const std::string& mode, bool similarity) {
+    const auto in = modelInputs(similarity);
     Transform none, logs;
+    none.similarity = logs.similarity = similarity;
     logs.logOutput = true;
-    for (int k = 0; k < kInputs; ++k) logs.logInput[static_cast<size_t>(k)] = dimensional(k);
+    // Log of the dimensional inputs (scale parameters); the friction coefficients stay linear.
+    for (size_t k = 0; k < in.size(); ++k) logs.logInput[k] = in[k].unit != "1";
     Transform outOnly = none, inOnly = logs;
     outOnly.logOutput = true;
     inOnly.logOutput = false;
@@ -40,17 +42,39 @@ double back(bool log, double v) { return log ? std::exp(v) : v; }
 
 }  // namespace
 
+std::vector<ModelInput> modelInputs(bool similarity) {
+    std::vector<ModelInput> out;
+    if (!similarity) {
+        for (int k = 0; k < kInputs; ++k) out.push_back({kInputSpecs[static_cast<size_t>(k)].name, kInputSpecs[static_cast<size_t>(k)].unit, k});
+        return out;
+    }
+    return {{"mu_s", "1", 0}, {"mu_d", "1", 1}, {"d/i0", "m", 3, 2}, {"feed/rho", "m3/h", 5, 4}, {"rpm", "rpm", 6}};
+}
+
 std::string Transform::describe() const {
-    std::string s = logOutput ? "log M" : "M";
+    std::string s = similarity ? (logOutput ? "log(M/rho)" : "M/rho") : (logOutput ? "log M" : "M");
     std::string in;
-    for (int k = 0; k < kInputs; ++k)
-        if (logInput[static_cast<size_t>(k)]) in += std::string(in.empty() ? "" : ", ") + kInputSpecs[static_cast<size_t>(k)].name;
-    return s + (in.empty() ? " of linear inputs" : " of log(" + in + ")");
+    const auto names = modelInputs(similarity);
+    for (size_t k = 0; k < names.size(); ++k)
+        if (logInput[k]) in += std::string(in.empty() ? "" : ", ") + names[k].name;
+    std::string inputs = in.empty() ? " of linear inputs" : " of log(" + in + ")";
+    if (similarity) inputs += " (similarity: mu_s, mu_d, d/i0, feed/rho, rpm)";
+    return s + inputs;
+}
+
+void Surrogate::setInputs() { in_ = modelInputs(tf_.similarity); }
+
+void Surrogate::derive(const Point& x, double* v) const {
+    for (size_t j = 0; j < in_.size(); ++j) {
+        const auto& m = in_[j];
+        v[j] = m.den < 0 ? x[static_cast<size_t>(m.num)] : x[static_cast<size_t>(m.num)] / x[static_cast<size_t>(m.den)];
+    }
 }
 
 void Surrogate::scale(const Point& x, double* z) const {
-    for (size_t k = 0; k < kInputs; ++k) {
-        const double u = fwd(tf_.logInput[k], x[k]);
+    derive(x, z);
+    for (size_t k = 0; k < in_.size(); ++k) {
+        const double u = fwd(tf_.logInput[k], z[k]);
         const double s = (u - umin_[k]) / (umax_[k] - umin_[k]);
         // Response surfaces live on [-1, 1] (orthogonal-ish terms), kriging on [0, 1].
         z[k] = kind_ == "rsm" ? 2 * s - 1 : s;
@@ -64,26 +88,37 @@ Surrogate Surrogate::fit(const std::vector<Row>& train, const FitOptions& o, nlo
     Surrogate best;
     double bestErr = std::numeric_limits<double>::infinity();
     nlohmann::json tried = nlohmann::json::array();
-    for (const auto& tf : candidates(o.transform)) {
+    for (const auto& tf : candidates(o.transform, o.similarity)) {
         Surrogate s;
         s.kind_ = o.kind;
         s.tf_ = tf;
+        s.setInputs();
+        const int d = s.dims();
         for (size_t k = 0; k < kInputs; ++k) {
             s.min_[k] = s.max_[k] = train[0].x[k];
             for (const auto& r : train) s.min_[k] = std::min(s.min_[k], r.x[k]), s.max_[k] = std::max(s.max_[k], r.x[k]);
-            s.umin_[k] = fwd(tf.logInput[k], s.min_[k]);
-            s.umax_[k] = fwd(tf.logInput[k], s.max_[k]);
+        }
+        double v[kInputs];
+        s.derive(train[0].x, v);
+        for (int k = 0; k < d; ++k) s.dmin_[static_cast<size_t>(k)] = s.dmax_[static_cast<size_t>(k)] = v[k];
+        for (const auto& r : train) {
+            s.derive(r.x, v);
+            for (size_t k = 0; k < static_cast<size_t>(d); ++k) s.dmin_[k] = std::min(s.dmin_[k], v[k]), s.dmax_[k] = std::max(s.dmax_[k], v[k]);
+        }
+        for (size_t k = 0; k < static_cast<size_t>(d); ++k) {
+            s.umin_[k] = fwd(tf.logInput[k], s.dmin_[k]);
+            s.umax_[k] = fwd(tf.logInput[k], s.dmax_[k]);
             if (!(s.umax_[k] > s.umin_[k])) s.umax_[k] = s.umin_[k] + 1;  // a constant input
         }
-        Eigen::MatrixXd Z(n, kInputs);
+        Eigen::MatrixXd Z(n, d);
         Eigen::VectorXd y(n);
         for (Eigen::Index i = 0; i < n; ++i) {
             const auto& r = train[static_cast<size_t>(i)];
             if (tf.logOutput && !(r.m > 0)) throw InputError("loading_kg", formatNumber(r.m), "> 0 for a log transform (run " + r.id + ")");
             double z[kInputs];
             s.scale(r.x, z);
-            for (int k = 0; k < kInputs; ++k) Z(i, k) = z[k];
-            y(i) = fwd(tf.logOutput, r.m);
+            for (int k = 0; k < d; ++k) Z(i, k) = z[k];
+            y(i) = fwd(tf.logOutput, r.m / s.outputScale(r.x));
         }
         // Leave-one-out predictions and the variance of a new run's result, transformed units.
         Eigen::VectorXd looPred(n), looVar(n);
@@ -115,9 +150,10 @@ Surrogate Surrogate::fit(const std::vector<Row>& train, const FitOptions& o, nlo
         s.loo_ = nlohmann::json::object();
         for (Eigen::Index i = 0; i < n; ++i) {
             const auto& row = train[static_cast<size_t>(i)];
-            const double m = back(tf.logOutput, looPred(i));
+            const double c = s.outputScale(row.x);
+            const double m = c * back(tf.logOutput, looPred(i));
             const double sd = std::sqrt(std::max(looVar(i), 0.0));
-            const double lo = back(tf.logOutput, looPred(i) - q * sd), hi = back(tf.logOutput, looPred(i) + q * sd);
+            const double lo = c * back(tf.logOutput, looPred(i) - q * sd), hi = c * back(tf.logOutput, looPred(i) + q * sd);
             stats.add(row.m, m, lo, hi);
             s.loo_[row.id] = {m, lo, hi};
         }
@@ -145,17 +181,21 @@ Surrogate::Workspace Surrogate::makeWorkspace() const {
 }
 
 bool Surrogate::inBox(const Point& x) const {
-    for (size_t k = 0; k < kInputs; ++k)
-        if (x[k] < min_[k] || x[k] > max_[k]) return false;
+    double v[kInputs];
+    derive(x, v);
+    for (size_t k = 0; k < in_.size(); ++k)
+        if (v[k] < dmin_[k] || v[k] > dmax_[k]) return false;
     return true;
 }
 
 std::vector<std::string> Surrogate::outsideBox(const Point& x) const {
     std::vector<std::string> out;
-    for (size_t k = 0; k < kInputs; ++k)
-        if (x[k] < min_[k] || x[k] > max_[k])
-            out.push_back(std::string(kInputSpecs[k].name) + " = " + formatNumber(x[k]) + " (trained on " +
-                          formatNumber(min_[k]) + " .. " + formatNumber(max_[k]) + " " + kInputSpecs[k].unit + ")");
+    double v[kInputs];
+    derive(x, v);
+    for (size_t k = 0; k < in_.size(); ++k)
+        if (v[k] < dmin_[k] || v[k] > dmax_[k])
+            out.push_back(in_[k].name + " = " + formatNumber(v[k]) + " (trained on " + formatNumber(dmin_[k]) + " .. " +
+                          formatNumber(dmax_[k]) + " " + in_[k].unit + ")");
     return out;
 }
 
@@ -171,13 +211,70 @@ Prediction Surrogate::predict(const Point& x, Workspace& ws) const {
         // A full run's result scatters by the nugget (steady-detection noise) around the latent mean.
         var += kriging_->processVariance() * kriging_->nugget();
     }
-    const double sd = std::sqrt(std::max(var, 0.0));
+    const double sd = std::sqrt(std::max(var, 0.0)), c = outputScale(x);
     Prediction p;
-    p.m = back(tf_.logOutput, mean);
-    p.lo = back(tf_.logOutput, mean - q * sd);
-    p.hi = back(tf_.logOutput, mean + q * sd);
+    p.m = c * back(tf_.logOutput, mean);
+    p.lo = c * back(tf_.logOutput, mean - q * sd);
+    p.hi = c * back(tf_.logOutput, mean + q * sd);
     p.inBox = inBox(x);
     return p;
+}
+
+Difference Surrogate::predictDifference(const Point& a, const Point& b) const {
+    double za[kInputs], zb[kInputs];
+    scale(a, za);
+    scale(b, zb);
+    Eigen::Vector2d mean;
+    Eigen::Matrix2d cov;
+    double noise = 0, q = kZ95;
+    if (rsm_) {
+        rsm_->predictPair(za, zb, mean, cov);
+        noise = rsm_->residualVariance();
+        q = tQuantile_;
+    } else {
+        kriging_->predictPair(za, zb, mean, cov);
+        noise = kriging_->processVariance() * kriging_->nugget();
+    }
+    const double ca = outputScale(a), cb = outputScale(b);
+    Difference d;
+    d.dm = cb * back(tf_.logOutput, mean(1)) - ca * back(tf_.logOutput, mean(0));
+    const double va = cov(0, 0) + noise, vb = cov(1, 1) + noise;
+    d.correlation = cov(0, 1) / std::sqrt(std::max(va * vb, 1e-300));
+    if (std::isnan(q)) {
+        d.lo = d.hi = d.loIndependent = d.hiIndependent = kNaN;
+        return d;
+    }
+    // The difference of two (log-)normal results has no closed-form quantiles: take them from a
+    // fixed quasi-random sample (Halton bases 2 and 3 through the normal quantile), so the answer
+    // is deterministic. The scale q / z95 makes a response surface's t interval.
+    const double sa = std::sqrt(va), sb = std::sqrt(vb), rho = std::clamp(cov(0, 1) / (sa * sb), -1.0, 1.0);
+    const double widen = q / kZ95;
+    constexpr int kDraws = 4096;
+    std::vector<double> dep(kDraws), ind(kDraws);
+    const auto halton = [](int i, int base) {
+        double f = 1, r = 0;
+        for (; i > 0; i /= base) f /= base, r += f * (i % base);
+        return r;
+    };
+    for (int i = 0; i < kDraws; ++i) {
+        const double u1 = gsl_cdf_ugaussian_Pinv(halton(i + 1, 2)), u2 = gsl_cdf_ugaussian_Pinv(halton(i + 1, 3));
+        const double ya = mean(0) + widen * sa * u1;
+        const double ybCorr = mean(1) + widen * sb * (rho * u1 + std::sqrt(1 - rho * rho) * u2);
+        const double ybInd = mean(1) + widen * sb * u2;
+        const double ma = ca * back(tf_.logOutput, ya);
+        dep[static_cast<size_t>(i)] = cb * back(tf_.logOutput, ybCorr) - ma;
+        ind[static_cast<size_t>(i)] = cb * back(tf_.logOutput, ybInd) - ma;
+    }
+    const auto quantile = [](std::vector<double>& v, double p) {
+        const auto k = static_cast<size_t>(p * static_cast<double>(v.size() - 1));
+        std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+        return v[k];
+    };
+    d.lo = quantile(dep, 0.025);
+    d.hi = quantile(dep, 0.975);
+    d.loIndependent = quantile(ind, 0.025);
+    d.hiIndependent = quantile(ind, 0.975);
+    return d;
 }
 
 std::vector<std::string> Surrogate::warnings() const {
@@ -188,7 +285,7 @@ std::vector<std::string> Surrogate::warnings() const {
         std::smatch m;
         if (std::regex_search(w, m, std::regex("length scale (\\d+)"))) {
             const auto k = static_cast<size_t>(std::stoi(m[1]));
-            if (k < kInputs) w = std::string(m.prefix()) + "length scale of " + kInputSpecs[k].name + std::string(m.suffix());
+            if (k < in_.size()) w = std::string(m.prefix()) + "length scale of " + in_[k].name + std::string(m.suffix());
         }
         out.push_back(w);
     }
@@ -196,20 +293,24 @@ std::vector<std::string> Surrogate::warnings() const {
 }
 
 nlohmann::json Surrogate::toJson() const {
-    nlohmann::json inputs = nlohmann::json::array();
+    nlohmann::json inputs = nlohmann::json::array(), model = nlohmann::json::array();
     for (size_t k = 0; k < kInputs; ++k)
-        inputs.push_back({{"name", kInputSpecs[k].name},
-                          {"unit", kInputSpecs[k].unit},
-                          {"min", min_[k]},
-                          {"max", max_[k]},
-                          {"log", tf_.logInput[k]},
-                          {"scaled_min", umin_[k]},
-                          {"scaled_max", umax_[k]}});
+        inputs.push_back({{"name", kInputSpecs[k].name}, {"unit", kInputSpecs[k].unit}, {"min", min_[k]}, {"max", max_[k]}});
+    for (size_t k = 0; k < in_.size(); ++k)
+        model.push_back({{"name", in_[k].name},
+                         {"unit", in_[k].unit},
+                         {"min", dmin_[k]},
+                         {"max", dmax_[k]},
+                         {"log", tf_.logInput[k]},
+                         {"scaled_min", umin_[k]},
+                         {"scaled_max", umax_[k]}});
     nlohmann::json j{{"schema", kSchema},
                      {"schema_version", kModelSchemaVersion},
                      {"kind", kind_},
                      {"inputs", inputs},
-                     {"output", {{"name", kOutputName}, {"unit", "kg"}, {"log", tf_.logOutput}}},
+                     {"similarity", tf_.similarity},
+                     {"model_inputs", model},
+                     {"output", {{"name", kOutputName}, {"unit", "kg"}, {"log", tf_.logOutput}, {"per_rho", tf_.similarity}}},
                      {"model", rsm_ ? rsm_->toJson() : kriging_->toJson()},
                      {"t_quantile", rsm_ ? nlohmann::json(tQuantile_) : nlohmann::json()},
                      {"training_ids", trained_},
@@ -227,7 +328,7 @@ Surrogate Surrogate::fromJson(const nlohmann::json& j) {
     };
     if (need(j, "schema") != kSchema) throw std::runtime_error("not a mixload surrogate (schema is not mixload-surrogate)");
     const int v = need(j, "schema_version").get<int>();
-    if (v != kModelSchemaVersion)
+    if (v != kModelSchemaVersion && v != 1)
         throw std::runtime_error("model schema version " + std::to_string(v) + ", this mixload reads " +
                                  std::to_string(kModelSchemaVersion));
     Surrogate s;
@@ -242,17 +343,33 @@ Surrogate Surrogate::fromJson(const nlohmann::json& j) {
                                      kInputSpecs[k].name);
         s.min_[k] = need(in, "min");
         s.max_[k] = need(in, "max");
+    }
+    // Version 1 models took the physical inputs themselves and kept their scaling in "inputs".
+    s.tf_.similarity = v == 1 ? false : need(j, "similarity").get<bool>();
+    s.setInputs();
+    const auto& model = v == 1 ? inputs : need(j, "model_inputs");
+    if (!model.is_array() || model.size() != s.in_.size())
+        throw std::runtime_error("field 'model_inputs' must list the " + std::to_string(s.in_.size()) + " model inputs");
+    for (size_t k = 0; k < s.in_.size(); ++k) {
+        const auto& in = model[k];
+        if (need(in, "name") != s.in_[k].name)
+            throw std::runtime_error("model input " + std::to_string(k) + " is '" + in["name"].get<std::string>() + "', expected " +
+                                     s.in_[k].name);
+        s.dmin_[k] = need(in, "min");
+        s.dmax_[k] = need(in, "max");
         s.tf_.logInput[k] = need(in, "log");
         s.umin_[k] = need(in, "scaled_min");
         s.umax_[k] = need(in, "scaled_max");
     }
     s.tf_.logOutput = need(need(j, "output"), "log");
-    const auto& model = need(j, "model");
+    const auto& fitted = need(j, "model");
     if (s.kind_ == "rsm") {
-        s.rsm_ = ResponseSurface::fromJson(model);
+        s.rsm_ = ResponseSurface::fromJson(fitted);
+        if (s.rsm_->dims() != s.dims()) throw std::runtime_error("the response surface's dimension is not the model inputs' count");
         s.tQuantile_ = need(j, "t_quantile").is_null() ? kNaN : j["t_quantile"].get<double>();
     } else {
-        s.kriging_ = Kriging::fromJson(model);
+        s.kriging_ = Kriging::fromJson(fitted);
+        if (s.kriging_->dims() != s.dims()) throw std::runtime_error("the kriging model's dimension is not the model inputs' count");
     }
     s.trained_ = need(j, "training_ids").get<std::vector<std::string>>();
     s.validation_ = need(j, "validation");

@@ -17,17 +17,32 @@
 
 namespace mixload::surrogates {
 
-inline constexpr int kModelSchemaVersion = 1;
+// 2: the model's own inputs ("model_inputs"), which may be ratios of the physical ones; 1 is read too.
+inline constexpr int kModelSchemaVersion = 2;
+
+// One input of the fitted model: a physical input, or the ratio of two that the physics says act
+// only together. With `similarity`, mu(I) sees d and I0 only as d/I0, and the bulk density scales out
+// of the powder's motion, so the model learns the bed's volume M/rho as a function of feed/rho
+// (measured on the calibrated scene: README, "Exact similarity").
+struct ModelInput {
+    std::string name, unit;
+    int num = 0;     // physical input in the numerator (index into kInputSpecs)
+    int den = -1;    // physical input in the denominator, or -1
+    bool positive = true;
+};
+std::vector<ModelInput> modelInputs(bool similarity);
 
 struct Transform {
+    bool similarity = false;           // inputs mu_s, mu_d, d/i0, feed/rho, rpm; output M/rho
     bool logOutput = false;
-    std::array<bool, kInputs> logInput{};
+    std::array<bool, kInputs> logInput{};  // by model input
     std::string describe() const;
 };
 
 struct FitOptions {
     std::string kind = "kriging";    // rsm | kriging
     std::string transform = "auto";  // auto (chosen by leave-one-out error) | none | log
+    bool similarity = false;         // fit M/rho in the similarity variables (Transform::similarity)
     bool select = true;              // rsm: forward term selection by PRESS
     KrigingOptions kriging;
 };
@@ -36,6 +51,15 @@ struct Prediction {
     double m = 0;              // [kg]
     double lo = 0, hi = 0;     // 95% interval for a full run's result [kg] (NaN if none)
     bool inBox = true;         // every input inside the training box
+};
+
+// The difference of two predictions, M(b) - M(a), and the 95% interval of the difference between
+// two full runs' results there: the model's errors at the two points are correlated (for nearby
+// formulations, mostly shared), each run's own scatter (the nugget) is not.
+struct Difference {
+    double dm = 0, lo = 0, hi = 0;   // [kg]; lo, hi NaN when the model has no interval
+    double correlation = 0;          // of the two predictions' errors, transformed units
+    double loIndependent = 0, hiIndependent = 0;  // the same interval with the errors taken as independent
 };
 
 class Surrogate {
@@ -50,14 +74,19 @@ public:
 
     Workspace makeWorkspace() const;
     Prediction predict(const Point& x, Workspace& ws) const;  // no heap allocation
+    Difference predictDifference(const Point& a, const Point& b) const;  // allocates
+    // Inside the training box of the model's own inputs (with similarity, a density outside the
+    // trained range is inside when feed/rho is).
     bool inBox(const Point& x) const;
-    // Inputs outside the training box as "name = value (box lo..hi unit)".
+    // Model inputs outside the training box as "name = value (box lo..hi unit)".
     std::vector<std::string> outsideBox(const Point& x) const;
 
     const std::string& kind() const { return kind_; }
     const Transform& transform() const { return tf_; }
+    // The physical inputs' range over the training runs.
     const Point& boxMin() const { return min_; }
     const Point& boxMax() const { return max_; }
+    const std::vector<ModelInput>& inputs() const { return in_; }
     const std::vector<std::string>& trainingIds() const { return trained_; }
     const nlohmann::json& validation() const { return validation_; }
     const nlohmann::json& provenance() const { return provenance_; }
@@ -77,11 +106,17 @@ public:
     void save(const std::filesystem::path& file) const;        // atomic
 
 private:
+    void derive(const Point& x, double* v) const;  // the model inputs, physical units
     void scale(const Point& x, double* z) const;
+    double outputScale(const Point& x) const { return tf_.similarity ? x[4] : 1.0; }  // M = scale * model output
+    void setInputs();
+    int dims() const { return static_cast<int>(in_.size()); }
     std::string kind_;
     Transform tf_;
-    Point min_{}, max_{};        // training box, physical units
-    Point umin_{}, umax_{};      // the box in transformed units
+    std::vector<ModelInput> in_;
+    Point min_{}, max_{};        // training range of the physical inputs
+    Point dmin_{}, dmax_{};      // training box of the model inputs (first dims() entries)
+    Point umin_{}, umax_{};      // the same box in transformed units
     std::optional<ResponseSurface> rsm_;
     std::optional<Kriging> kriging_;
     double tQuantile_ = 0;       // rsm: Student t 97.5% quantile at its dof

@@ -20,13 +20,6 @@ nlohmann::json predictionJson(const surrogates::Surrogate& m, const surrogates::
     return j;
 }
 
-namespace {
-// Half-width of the 95% interval as a standard deviation (log models give skewed intervals: use
-// the mean half-width).
-double sdOf(const surrogates::Prediction& p) { return std::isnan(p.lo) ? NAN : (p.hi - p.lo) / (2 * 1.959963984540054); }
-
-}  // namespace
-
 nlohmann::json compareFormulations(const surrogates::Surrogate& m, const std::string& modelPath, const Point& base,
                                    const Point& changed, const std::vector<std::pair<double, double>>& operatingPoints) {
     auto ws = m.makeWorkspace();
@@ -38,9 +31,10 @@ nlohmann::json compareFormulations(const surrogates::Surrogate& m, const std::st
         surrogates::requirePhysical(xa);
         surrogates::requirePhysical(xb);
         const auto pa = m.predict(xa, ws), pb = m.predict(xb, ws);
-        // Errors of the two predictions taken as independent: for nearby formulations they are
-        // positively correlated, so this overstates the uncertainty of the difference.
-        const double dm = pb.m - pa.m, sd = std::hypot(sdOf(pa), sdOf(pb));
+        // The two predictions share most of their error: the interval of the difference comes
+        // from their joint distribution (the independent one beside it, for comparison).
+        const auto diff = m.predictDifference(xa, xb);
+        const double dm = pb.m - pa.m;
         nlohmann::json attribution = nlohmann::json::array();
         double sum = 0;
         for (size_t k : kMaterial) {
@@ -57,7 +51,10 @@ nlohmann::json compareFormulations(const surrogates::Surrogate& m, const std::st
                                  {"new", predictionJson(m, xb, pb, modelPath)},
                                  {"delta_kg", dm},
                                  {"delta_rel", dm / pa.m},
-                                 {"delta_ci95_kg", std::isnan(sd) ? nlohmann::json() : nlohmann::json{dm - 1.96 * sd, dm + 1.96 * sd}},
+                                 {"delta_ci95_kg", std::isnan(diff.lo) ? nlohmann::json() : nlohmann::json{diff.lo, diff.hi}},
+                                 {"delta_ci95_independent_kg",
+                                  std::isnan(diff.lo) ? nlohmann::json() : nlohmann::json{diff.loIndependent, diff.hiIndependent}},
+                                 {"error_correlation", diff.correlation},
                                  {"attribution", attribution},
                                  {"interaction_kg", dm - sum}});
     }

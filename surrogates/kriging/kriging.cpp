@@ -221,6 +221,25 @@ void Kriging::predict(const double* x, Workspace& ws, double& mean, double& vari
     variance = std::max(0.0, sigma2_ * (1.0 - vv + uAu));
 }
 
+void Kriging::predictPair(const double* x1, const double* x2, Eigen::Vector2d& mean, Eigen::Matrix2d& cov) const {
+    const int n = size(), p = trendSize(), d = dims();
+    Eigen::MatrixXd K(n, 2), F(p, 2);
+    const double* xs[2] = {x1, x2};
+    for (int j = 0; j < 2; ++j) {
+        for (int i = 0; i < n; ++i) K(i, j) = correlation(xs[j], Xt_.data() + static_cast<std::ptrdiff_t>(i) * d);
+        trendBasis(xs[j], F.col(j).data());
+        mean(j) = F.col(j).dot(beta_) + K.col(j).dot(alpha_);
+    }
+    const Eigen::MatrixXd V = L_.triangularView<Eigen::Lower>().solve(K);  // L^-1 k
+    const Eigen::MatrixXd U = G_.transpose() * V - F;                      // F^T C^-1 k - f
+    Eigen::Matrix2d R;
+    R(0, 0) = R(1, 1) = 1.0;
+    R(0, 1) = R(1, 0) = correlation(x1, x2);
+    cov = sigma2_ * (R - V.transpose() * V + U.transpose() * Ainv_ * U);
+    cov(0, 0) = std::max(cov(0, 0), 0.0);
+    cov(1, 1) = std::max(cov(1, 1), 0.0);
+}
+
 Eigen::VectorXd Kriging::looPrecisionDiagonal() const {
     const int n = size();
     const Eigen::MatrixXd Linv =

@@ -54,6 +54,10 @@ public:
     // kriging, including the trend-estimation term), clipped at >= 0; the nugget is not added.
     double predictMean(const double* x, Workspace& ws) const;
     void predict(const double* x, Workspace& ws, double& mean, double& variance) const;
+    // Means of two points and the 2 x 2 covariance of their latent errors (the nugget not added):
+    // the off-diagonal term is what a difference of two predictions needs, since nearby points
+    // share most of their error. Allocates; the diagonal equals predict()'s variances.
+    void predictPair(const double* x1, const double* x2, Eigen::Vector2d& mean, Eigen::Matrix2d& cov) const;
 
     // Closed-form leave-one-out with the hyperparameters (including sigma^2) of the full fit and the
     // trend re-estimated: residual_i = y_i - yhat_{-i} = (Q y)_i / Q_ii and variance_i = sigma^2 / Q_ii.

@@ -163,6 +163,17 @@ void ResponseSurface::predict(const double* z, double* f, double& mean, double& 
     variance = s2_ * (1 + q);
 }
 
+void ResponseSurface::predictPair(const double* z1, const double* z2, Eigen::Vector2d& mean, Eigen::Matrix2d& cov) const {
+    const auto p = static_cast<Eigen::Index>(terms_.size());
+    Eigen::MatrixXd F(p, 2);
+    for (Eigen::Index t = 0; t < p; ++t) {
+        F(t, 0) = terms_[static_cast<size_t>(t)].eval(z1);
+        F(t, 1) = terms_[static_cast<size_t>(t)].eval(z2);
+    }
+    mean = F.transpose() * coef_;
+    cov = s2_ * (F.transpose() * xtxInv_ * F);
+}
+
 nlohmann::json ResponseSurface::toJson() const {
     nlohmann::json terms = nlohmann::json::array();
     for (const auto& t : terms_) terms.push_back({t.i, t.j});

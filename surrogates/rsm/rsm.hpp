@@ -43,6 +43,9 @@ public:
     double predict(const double* z) const;
     // Mean and the variance of a new observation (s^2 (1 + f^T (X^T X)^-1 f)).
     void predict(const double* z, double* scratch, double& mean, double& variance) const;
+    // Means at two points and the covariance of their mean's errors, s^2 f1^T (X^T X)^-1 f2 (the
+    // new observations' own s^2 not added). Allocates.
+    void predictPair(const double* z1, const double* z2, Eigen::Vector2d& mean, Eigen::Matrix2d& cov) const;
 
     nlohmann::json toJson() const;
     static ResponseSurface fromJson(const nlohmann::json& j);

@@ -106,6 +106,13 @@ TEST(SurrogateCli, FitPredictWhatifCheck) {
     for (const auto& a : p["attribution"]) sum += a["delta_kg"].get<double>();
     EXPECT_NEAR(sum, p["delta_kg"].get<double>(), 1e-12);
     EXPECT_EQ(p["attribution"].size(), 2u);
+    // The interval of the difference uses the two predictions' correlation: no wider than if
+    // they were independent.
+    EXPECT_LE(p["delta_ci95_kg"][0].get<double>(), p["delta_kg"].get<double>());
+    EXPECT_GE(p["delta_ci95_kg"][1].get<double>(), p["delta_kg"].get<double>());
+    EXPECT_GT(p["error_correlation"].get<double>(), 0.0);
+    EXPECT_LT(p["delta_ci95_kg"][1].get<double>() - p["delta_ci95_kg"][0].get<double>(),
+              p["delta_ci95_independent_kg"][1].get<double>() - p["delta_ci95_independent_kg"][0].get<double>());
 
     // Check: 8 hold-out runs, 32 by LOO; a threshold below the error fails with exit 1.
     r = runMixload({"check", "--model", model.string(), "--table", table.string(), "--json"});

@@ -308,3 +308,56 @@ TEST(Kriging, DISABLED_Timing) {
                 std::chrono::duration<double, std::micro>(t3 - t2).count() / calls,
                 std::chrono::duration<double, std::micro>(t4 - t3).count() / calls, sum);
 }
+
+// The covariance of two predictions is the posterior covariance under a flat prior on the trend:
+// computed here the long way, by conditioning the joint Gaussian of the training data and the two
+// points with a very wide prior on the trend coefficients.
+TEST(Kriging, PairCovarianceIsTheFlatPriorPosterior) {
+    const Eigen::MatrixXd X = randomPoints(12, 2, 21);
+    const Eigen::VectorXd y = evaluate(X);
+    const Eigen::Vector2d ls(0.3, 0.4);
+    const double g = 1e-4;
+    const auto matern = [&](const Eigen::RowVectorXd& a, const Eigen::RowVectorXd& b) {
+        const double h = std::sqrt(5.0) * ((a - b).array() / ls.transpose().array()).matrix().norm();
+        return (1 + h + h * h / 3) * std::exp(-h);
+    };
+    for (auto t : {Trend::Constant, Trend::Linear}) {
+        SCOPED_TRACE(toString(t));
+        const auto m = Kriging::withHyperparameters(X, y, Kernel::Matern52, t, ls, g);
+        Eigen::MatrixXd P(2, 2);
+        P << 0.31, 0.62, 0.36, 0.57;  // two nearby points
+        const int n = 12, N = n + 2;
+        Eigen::MatrixXd A(N, 2);
+        A.topRows(n) = X;
+        A.bottomRows(2) = P;
+        const auto basis = [&](const Eigen::RowVectorXd& x) {
+            Eigen::VectorXd f(t == Trend::Constant ? 1 : 3);
+            f(0) = 1;
+            if (t == Trend::Linear) f(1) = x(0), f(2) = x(1);
+            return f;
+        };
+        const double wide = 1e7;
+        Eigen::MatrixXd S(N, N);
+        for (int i = 0; i < N; ++i)
+            for (int j = 0; j < N; ++j)
+                S(i, j) = matern(A.row(i), A.row(j)) + (i == j && i < n ? g : 0.0) + wide * basis(A.row(i)).dot(basis(A.row(j)));
+        const Eigen::MatrixXd Stt = S.topLeftCorner(n, n), Stp = S.topRightCorner(n, 2);
+        const Eigen::MatrixXd post = S.bottomRightCorner(2, 2) - Stp.transpose() * Stt.ldlt().solve(Stp);
+        Eigen::Vector2d mean;
+        Eigen::Matrix2d cov;
+        const Eigen::VectorXd p1 = P.row(0).transpose(), p2 = P.row(1).transpose();
+        m.predictPair(p1.data(), p2.data(), mean, cov);
+        const Eigen::Matrix2d expected = m.processVariance() * post;
+        for (int i = 0; i < 2; ++i)
+            for (int j = 0; j < 2; ++j) EXPECT_NEAR(cov(i, j), expected(i, j), 1e-4 * expected(0, 0)) << i << "," << j;
+        // The diagonal and the means are predict()'s.
+        const auto [m1, v1] = predictAt(m, P.row(0));
+        const auto [m2, v2] = predictAt(m, P.row(1));
+        EXPECT_NEAR(mean(0), m1, 1e-12);
+        EXPECT_NEAR(mean(1), m2, 1e-12);
+        EXPECT_NEAR(cov(0, 0), v1, 1e-12 * m.processVariance());
+        EXPECT_NEAR(cov(1, 1), v2, 1e-12 * m.processVariance());
+        // Nearby points share most of their error.
+        EXPECT_GT(cov(0, 1) / std::sqrt(cov(0, 0) * cov(1, 1)), 0.5);
+    }
+}

@@ -97,12 +97,12 @@ TEST(SurrogateModel, RejectsOtherSchemasAndMissingFields) {
         }
     };
     auto v = j;
-    v["schema_version"] = 2;
-    rejected(v, "schema version 2");
+    v["schema_version"] = 3;
+    rejected(v, "schema version 3");
     v = j;
     v["schema"] = "something-else";
     rejected(v, "not a mixload surrogate");
-    for (const char* field : {"training_ids", "inputs", "model", "validation", "provenance"}) {
+    for (const char* field : {"training_ids", "inputs", "model_inputs", "similarity", "model", "validation", "provenance"}) {
         v = j;
         v.erase(field);
         rejected(v, field);
@@ -156,8 +156,115 @@ TEST(SurrogateModel, CheckSeparatesHoldOutFromTraining) {
     EXPECT_EQ(c["loo"]["n"], 35);
     EXPECT_LT(c["mean_rel_error"].get<double>(), 0.05);
     EXPECT_GE(c["max_rel_error"].get<double>(), c["mean_rel_error"].get<double>());
+    // The bootstrap interval brackets the mean and is reproducible.
+    EXPECT_LE(c["mean_rel_error_ci90"][0].get<double>(), c["mean_rel_error"].get<double>());
+    EXPECT_GE(c["mean_rel_error_ci90"][1].get<double>(), c["mean_rel_error"].get<double>());
+    EXPECT_LT(c["mean_rel_error_ci90"][0].get<double>(), c["mean_rel_error_ci90"][1].get<double>());
+    EXPECT_EQ(checkModel(m, t)["mean_rel_error_ci90"], c["mean_rel_error_ci90"]);
     EXPECT_GE(c["coverage95"].get<double>(), 0.0);
     EXPECT_LE(c["coverage95"].get<double>(), 1.0);
     // The closed-form LOO errors are the validation statistics recorded at fit time.
     EXPECT_NEAR(c["loo"]["mean_rel_error"].get<double>(), m.validation()["mean_rel_error"].get<double>(), 1e-12);
+}
+
+namespace {
+
+// A loading that obeys the model's exact similarity: the bed's volume M/rho depends on the feed
+// only through feed/rho and on d and I0 only through d/I0.
+double similarLaw(const Point& x) {
+    const double v = 1e-4 * std::pow(x[5] / x[4] / 0.02, 0.7) * std::pow(x[6] / 100, -0.5) * (1 + 0.8 * (x[0] - 0.3)) *
+                     (1 + 0.3 * (x[1] - x[0])) * std::pow(x[3] / x[2] / 1e-3, 0.15);
+    return x[4] * v;
+}
+
+}  // namespace
+
+TEST(SurrogateModel, SimilarityLearnsTheBedVolumeInFiveInputs) {
+    auto train = rows(30, 11), test = rows(30, 12);
+    for (auto* set : {&train, &test})
+        for (auto& r : *set) r.m = similarLaw(r.x);
+    FitOptions o;
+    o.kind = "kriging";
+    o.transform = "log";
+    const auto plain = Surrogate::fit(train, o, {});
+    o.similarity = true;
+    const auto sim = Surrogate::fit(train, o, {});
+    ASSERT_EQ(sim.inputs().size(), 5u);
+    EXPECT_EQ(sim.inputs()[3].name, "feed/rho");
+    EXPECT_TRUE(sim.transform().similarity);
+    // Fewer inputs for the same law: the leave-one-out error must fall.
+    EXPECT_LT(sim.validation()["mean_rel_error"].get<double>(), 0.5 * plain.validation()["mean_rel_error"].get<double>());
+    auto ws = sim.makeWorkspace();
+    double err = 0;
+    for (const auto& t : test) err += std::abs(sim.predict(t.x, ws).m - t.m) / t.m;
+    EXPECT_LT(err / test.size(), 0.03);
+    // Twice the density and twice the feed: outside the trained density range, inside the model's
+    // box, and exactly twice the loading.
+    Point x0 = train[0].x;
+    for (const auto& r : train)
+        if (r.x[4] > x0[4]) x0 = r.x;
+    Point x2 = x0;
+    x2[4] *= 2;
+    x2[5] *= 2;
+    ASSERT_GT(x2[4], sim.boxMax()[4]);
+    EXPECT_TRUE(sim.inBox(x2));
+    EXPECT_NEAR(sim.predict(x2, ws).m, 2 * sim.predict(x0, ws).m, 1e-12 * sim.predict(x0, ws).m);
+    Point x3 = x0;
+    x3[5] = 1e3 * x0[5];
+    const auto out = sim.outsideBox(x3);
+    ASSERT_EQ(out.size(), 1u);
+    EXPECT_NE(out[0].find("feed/rho"), std::string::npos) << out[0];
+    // Round trip, and a schema-1 file (physical inputs carrying their own scaling) still reads.
+    const fs::path f = scratch("similarity.json");
+    sim.save(f);
+    EXPECT_EQ(Surrogate::load(f).toJson().dump(), sim.toJson().dump());
+    auto v1 = plain.toJson();
+    v1["schema_version"] = 1;
+    for (size_t k = 0; k < kInputs; ++k)
+        for (const char* key : {"log", "scaled_min", "scaled_max"}) v1["inputs"][k][key] = v1["model_inputs"][k][key];
+    v1.erase("model_inputs");
+    v1.erase("similarity");
+    mixload::writeFileAtomic(f, v1.dump());
+    const auto old = Surrogate::load(f);
+    auto w1 = plain.makeWorkspace(), w2 = old.makeWorkspace();
+    for (const auto& t : test) EXPECT_EQ(old.predict(t.x, w2).m, plain.predict(t.x, w1).m);
+}
+
+TEST(SurrogateModel, ADifferenceCarriesTheCorrelationOfItsTwoPredictions) {
+    // Few runs, so that the model's own uncertainty (shared by nearby points) outweighs a run's
+    // scatter (not shared).
+    const auto train = rows(12, 13);
+    for (const char* kind : {"kriging", "rsm"}) {
+        SCOPED_TRACE(kind);
+        FitOptions o;
+        o.kind = kind;
+        const auto m = Surrogate::fit(train, o, {});
+        auto ws = m.makeWorkspace();
+        Point a{};
+        for (size_t k = 0; k < kInputs; ++k) a[k] = 0.5 * (train[0].x[k] + train[1].x[k]);
+        Point b = a;
+        b[4] *= 1.05;  // a small formulation change
+        const auto pa = m.predict(a, ws), pb = m.predict(b, ws);
+        const auto d = m.predictDifference(a, b);
+        EXPECT_NEAR(d.dm, pb.m - pa.m, 1e-9 * pa.m);
+        EXPECT_GT(d.correlation, 0.0);
+        EXPECT_LE(d.lo, d.dm);
+        EXPECT_GE(d.hi, d.dm);
+        // Shared errors cancel: narrower than if the two predictions were independent.
+        EXPECT_LT(d.hi - d.lo, d.hiIndependent - d.loIndependent);
+        if (std::string(kind) == "kriging") {
+            EXPECT_GT(d.correlation, 0.5);
+            EXPECT_LT(d.hi - d.lo, 0.8 * (d.hiIndependent - d.loIndependent));
+        }
+        // The same point twice: no change, and the interval is only two runs' own scatter.
+        const auto same = m.predictDifference(a, a);
+        EXPECT_NEAR(same.dm, 0.0, 1e-12 * pa.m);
+        EXPECT_LT(same.lo, 0.0);
+        EXPECT_GT(same.hi, 0.0);
+        EXPECT_LE(same.hi - same.lo, d.hiIndependent - d.loIndependent);
+        // Deterministic.
+        const auto again = m.predictDifference(a, b);
+        EXPECT_EQ(again.lo, d.lo);
+        EXPECT_EQ(again.hi, d.hi);
+    }
 }
