@@ -15,7 +15,7 @@ struct CampaignCmd {
     experiments::CampaignSpec spec;
     std::string output;
     experiments::CampaignRunOptions run;
-    bool json = false;
+    bool json = false, adaptive = false;
     std::string checkModel;
 };
 
@@ -29,9 +29,19 @@ int printCreated(const CampaignCmd& o) {
 }
 
 int printExtended(const CampaignCmd& o) {
-    const auto j = experiments::extendCampaign(o.spec.place, o.spec.n);
-    if (o.json) std::cout << j.dump(2) << '\n';
-    else std::cout << "campaign " << o.spec.place.name << ": " << j["added"] << " points added (" << j["points"] << " in all)\n";
+    const auto j = experiments::extendCampaign(o.spec.place, o.spec.n, o.adaptive);
+    if (o.json) {
+        std::cout << j.dump(2) << '\n';
+        return 0;
+    }
+    std::cout << "campaign " << o.spec.place.name << ": " << j["added"] << " points added (" << j["points"] << " in all)\n";
+    if (j.contains("adaptive")) {
+        const auto& a = j["adaptive"];
+        std::cout << "  where the " << a["model"].get<std::string>() << " is least sure (leave-one-out mean |error| "
+                  << a["loo_mean_abs_error_log"].get<double>() << " in log, " << a["pending_runs"] << " queued points conditioned on):\n";
+        for (const auto& p : a["picks"]) std::cout << "    " << p["params"].dump() << "  predicted " << p["predicted"].get<double>()
+                                                     << ", sd " << p["sd_log"].get<double>() << " in log\n";
+    }
     return 0;
 }
 
@@ -129,6 +139,9 @@ void addCampaign(CLI::App& app, Action& action) {
     auto* xt = camp->add_subcommand("extend", "Add points to a campaign's design without repeating any (Sobol continues; LHS is augmented)");
     xt->add_option("name", o->spec.place.name, "Campaign name")->required();
     xt->add_option("--n", o->spec.n, "Number of points to add")->required();
+    xt->add_flag("--adaptive", o->adaptive,
+                 "Place the points where a kriging model of the finished runs (log loading of steady runs; collapse: log runout) is least sure, "
+                 "given the queued points: one batch per call, e.g. one point per free core");
     xt->add_option("--dir", o->spec.place.dir, "Where campaigns live")->capture_default_str();
     xt->add_flag("--json", o->json, "Print JSON");
     xt->callback([&action, o] { action = [o] { return printExtended(*o); }; });

@@ -3,6 +3,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <mutex>
 #include <regex>
 #include <set>
@@ -15,6 +16,7 @@
 #include "common/input_error.hpp"
 #include "common/process.hpp"
 #include "common/progress.hpp"
+#include "doe/adaptive.hpp"
 #include "doe/designs.hpp"
 #include "doe/parameter_space.hpp"
 #include "mixload_version.hpp"
@@ -207,26 +209,68 @@ store::CampaignInfo openCampaign(const CampaignPlace& o, std::unique_ptr<store::
 }
 
 // Adds n points without repeating any: the Sobol sequence continues where the campaign stopped;
-// a Latin hypercube is augmented into the strata its points leave free.
-nlohmann::json extendCampaign(const CampaignPlace& o, int n) {
+// a Latin hypercube is augmented into the strata its points leave free; adaptive points go where
+// a kriging model of the finished runs is least sure.
+nlohmann::json extendCampaign(const CampaignPlace& o, int n, bool adaptive) {
     requireRange("n", n, 1, 100000);
     std::unique_ptr<store::Ledger> l;
     const auto c = openCampaign(o, l);
     const auto space = parseRanges(c.rangesToml, o.name + " (ranges recorded in the ledger)");
     const auto runs = l->runs(o.name);
-    Design old;
-    for (const auto& r : runs) {
+    const auto unitOf = [&](const store::LedgerRun& r) {
         std::vector<double> x;
         for (const auto& p : space.params) x.push_back(r.params.at(p.name).get<double>());
-        old.push_back(space.toUnit(x));
-    }
+        return space.toUnit(x);
+    };
+    Design old;
+    for (const auto& r : runs) old.push_back(unitOf(r));
     const int k = static_cast<int>(space.params.size());
-    const auto unit = c.design == "sobol"
-                          ? sobol(n, k, static_cast<int>(runs.size()))
-                          : augmentLatinHypercube(old, n, c.seed + runs.size());
+    nlohmann::json out{{"campaign", o.name}};
+    Design unit;
+    if (adaptive) {
+        // The model learns the log of the campaign's quantity (the loading spans decades) from its
+        // finished runs (a mixer run counts only with a steady verdict); queued and running points
+        // are conditioned on, failed ones left out.
+        const bool mixer = space.scene == "mixer";
+        const char* quantity = mixer ? "loading_kg" : "runout_star";
+        Design done, pending;
+        std::vector<double> y;
+        for (const auto& r : runs) {
+            if (r.status == "queued" || r.status == "running") pending.push_back(unitOf(r));
+            if (r.status != "done" || !r.result.is_object()) continue;
+            const auto q = r.result.value(quantity, nlohmann::json());
+            if (!q.is_number() || !(q.get<double>() > 0) || (mixer && !r.result.value("steady", false))) continue;
+            done.push_back(unitOf(r));
+            y.push_back(std::log(q.get<double>()));
+        }
+        // Candidates: a Sobol set of 256 points per dimension (at least 1024), far along the
+        // sequence so that it does not coincide with a Sobol design's own points.
+        const int nc = std::max(1024, 256 * k);
+        const auto batch = mostUncertain(done, y, pending, sobol(nc, k, 100000), n);
+        nlohmann::json picks = nlohmann::json::array();
+        for (const auto& p : batch.picks) {
+            unit.push_back(p.unit);
+            const auto x = space.toPhysical(p.unit);
+            nlohmann::json params = nlohmann::json::object();
+            for (size_t i = 0; i < x.size(); ++i) params[space.params[i].name] = x[i];
+            picks.push_back({{"params", params}, {"predicted", std::exp(p.mean)}, {"sd_log", p.sd}});
+        }
+        out["adaptive"] = {{"quantity", quantity},
+                           {"model", "kriging of log " + std::string(quantity) + " on " + std::to_string(done.size()) + " finished runs"},
+                           {"finished_runs", done.size()},
+                           {"pending_runs", pending.size()},
+                           {"loo_mean_abs_error_log", batch.looMeanAbsError},
+                           {"max_sd_log_before", batch.maxSdBefore},
+                           {"picks", picks}};
+    } else {
+        unit = c.design == "sobol" ? sobol(n, k, static_cast<int>(runs.size()))
+                                   : augmentLatinHypercube(old, n, c.seed + runs.size());
+    }
     const auto points = pointsOf(space, c.sceneJson, unit);
     l->addPoints(o.name, points);
-    return {{"campaign", o.name}, {"added", points.size()}, {"points", runs.size() + points.size()}};
+    out["added"] = points.size();
+    out["points"] = runs.size() + points.size();
+    return out;
 }
 
 nlohmann::json campaignStatus(const CampaignPlace& o) {

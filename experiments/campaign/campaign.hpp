@@ -47,8 +47,10 @@ struct CampaignRunOptions {
 // Every point becomes a validated scene before the ledger exists: bad input leaves nothing.
 nlohmann::json createCampaign(const CampaignSpec& spec);
 // Adds n points without repeating any: the Sobol sequence continues where the campaign stopped; a
-// Latin hypercube is augmented into the strata its points leave free.
-nlohmann::json extendCampaign(const CampaignPlace& place, int n);
+// Latin hypercube is augmented into the strata its points leave free. adaptive: the n points go
+// where a kriging model of the finished runs' log quantity (mixer: loading_kg of steady runs;
+// collapse: runout_star) is least sure, given the points already queued (doe/adaptive).
+nlohmann::json extendCampaign(const CampaignPlace& place, int n, bool adaptive = false);
 nlohmann::json campaignStatus(const CampaignPlace& place);
 nlohmann::json exportCampaignCsv(const CampaignPlace& place, const std::filesystem::path& csv);
 // Runs queued points, jobs at a time, until none is left or maxHours; counts in the summary.

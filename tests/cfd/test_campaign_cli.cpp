@@ -214,6 +214,47 @@ TEST(CampaignCli, ExtendAddsOnlyNewPoints) {
     }
 }
 
+// One adaptive batch on a real campaign: refused (nothing added) before five runs have finished;
+// then two points where the model of the finished runs is least sure, none repeating a design point.
+TEST(CampaignCli, AdaptiveExtensionGoesWhereTheFinishedRunsSayLeast) {
+    const fs::path dir = scratchDir("campaign-adaptive");
+    const auto ranges = rangesFile(dir, "r", "scene = \"collapse\"\n[aspect]\nmin = 1\nmax = 3\nunit = \"1\"\n");
+    ASSERT_EQ(runMixload({"campaign", "create", "a", "--ranges", ranges.string(), "--design", "sobol", "--n", "5", "--mesh", "10",
+                          "--dir", dir.string()}).rc, 0);
+    auto r = runMixload({"campaign", "extend", "a", "--n", "2", "--adaptive", "--dir", dir.string()});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_NE(r.err.find("finished runs"), std::string::npos) << r.err;
+    r = runMixload({"campaign", "status", "a", "--dir", dir.string(), "--json"});
+    EXPECT_EQ(nlohmann::json::parse(r.out)["points"], 5);
+
+    r = runMixload({"campaign", "run", "a", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    ASSERT_EQ(nlohmann::json::parse(r.out)["counts"]["done"], 5);
+    r = runMixload({"campaign", "extend", "a", "--n", "2", "--adaptive", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["added"], 2);
+    EXPECT_EQ(j["points"], 7);
+    const auto& a = j["adaptive"];
+    EXPECT_EQ(a["quantity"], "runout_star");
+    EXPECT_EQ(a["finished_runs"], 5);
+    ASSERT_EQ(a["picks"].size(), 2u);
+    // The Sobol design (0.5, 0.75, 0.25, 0.375, 0.875 of [1, 3]) leaves its widest gaps at the ends.
+    std::set<double> aspects{2.0, 2.5, 1.5, 1.75, 2.75};
+    for (const auto& p : a["picks"]) {
+        const double x = p["params"]["aspect"].get<double>();
+        EXPECT_TRUE(x < 1.5 || x > 2.75) << x;
+        EXPECT_TRUE(aspects.insert(x).second) << "repeats " << x;
+        EXPECT_GT(p["sd_log"].get<double>(), 0.0);
+    }
+    // The queued picks are conditioned on: a second batch goes elsewhere.
+    r = runMixload({"campaign", "extend", "a", "--n", "1", "--adaptive", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto again = nlohmann::json::parse(r.out)["adaptive"];
+    EXPECT_EQ(again["pending_runs"], 2);
+    EXPECT_TRUE(aspects.insert(again["picks"][0]["params"]["aspect"].get<double>()).second);
+}
+
 TEST(CampaignCli, ReadmeCommandRecreatesTheShippedMixerCampaignsScenes) {
     // The README's regeneration command (snappy mesher, revolution windows) must give the shipped
     // ledger's 40 first points the same scene hashes, or `campaign run` would not redo them.

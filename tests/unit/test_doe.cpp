@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "common/input_error.hpp"
+#include "doe/adaptive.hpp"
 #include "doe/designs.hpp"
 #include "doe/parameter_space.hpp"
 
@@ -146,4 +148,32 @@ TEST(Doe, BadRangesAreRefusedWithTheirName) {
     expectBad("[rpm]\nmin = 39\nmax = 254\nunit = \"rpm\"\n", "scene = (missing)");
     expectBad("scene = \"mixer\"\n", "at least one parameter");
     expectBad("scene = \"mixer\"\n[rpm\n", "valid TOML");
+}
+
+// The first adaptive point goes into the largest gap the finished and queued runs leave; the next
+// ones do not pile onto it.
+TEST(Doe, AdaptivePointsGoWhereTheModelIsLeastSure) {
+    using namespace mixload::experiments;
+    Design done;
+    std::vector<double> y;
+    for (double x : {0.0, 0.08, 0.16, 0.24, 0.32, 0.40}) done.push_back({x}), y.push_back(std::sin(4 * x));
+    const Design pending{{1.0}};
+    Design candidates;
+    for (int i = 0; i <= 200; ++i) candidates.push_back({i / 200.0});
+    const auto b = mostUncertain(done, y, pending, candidates, 3);
+    ASSERT_EQ(b.picks.size(), 3u);
+    // Inside the gap between 0.40 (finished) and 1.0 (queued), nearer the lone queued point than
+    // the dense finished ones.
+    EXPECT_GT(b.picks[0].unit[0], 0.6);
+    EXPECT_LT(b.picks[0].unit[0], 0.9);
+    EXPECT_NEAR(b.maxSdBefore, b.picks[0].sd, 1e-15);
+    for (size_t i = 1; i < 3; ++i) {
+        EXPECT_LE(b.picks[i].sd, b.picks[i - 1].sd * (1 + 1e-9)) << "conditioning on a pick cannot raise the largest sd";
+        for (size_t j = 0; j < i; ++j) EXPECT_GT(std::abs(b.picks[i].unit[0] - b.picks[j].unit[0]), 0.05);
+        EXPECT_GT(b.picks[i].unit[0], 0.4);
+    }
+    // Without the queued point the far end is the least known.
+    EXPECT_GT(mostUncertain(done, y, {}, candidates, 1).picks[0].unit[0], 0.95);
+    EXPECT_THROW(mostUncertain(Design(done.begin(), done.begin() + 4), std::vector<double>(y.begin(), y.begin() + 4), {}, candidates, 1),
+                 mixload::InputError);
 }
