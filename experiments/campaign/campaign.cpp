@@ -299,18 +299,32 @@ nlohmann::json exportCampaignCsv(const CampaignPlace& o, const std::filesystem::
             for (const auto& [k, v] : r.result.items())
                 if (v.is_number() || v.is_boolean() || v.is_null()) qois.insert(k);
     }
+    // A mixer design may hold inputs at the base scene's values (a similarity design fixes rho and
+    // I0): they get columns too, so the CSV carries every input a surrogate needs.
+    std::vector<std::string> fixed;
+    if (c.scene == "mixer")
+        for (const char* k : {"mu_s", "delta_mu", "i0", "d", "rho", "feed_kg_h", "rpm"})
+            if (!params.count(k)) fixed.push_back(k);
+    const auto fixedValue = [&](const store::LedgerRun& r, const std::string& k) {
+        const auto sc = mixerSceneFor(c.sceneJson, r.params);
+        const auto& m = sc.material;
+        return k == "mu_s" ? m.muS : k == "delta_mu" ? m.muD - m.muS : k == "i0" ? m.I0 : k == "d" ? m.grainDiameter
+             : k == "rho" ? m.bulkDensity() : k == "feed_kg_h" ? sc.feedKgH : sc.rpm;
+    };
     std::ostringstream os;
     os << "# campaign " << o.name << ", scene " << c.scene << ", design " << c.design << ", seed "
        << c.seed << ", base " << c.sceneJson.dump() << ", created " << c.created << " by mixload "
        << c.mixloadVersion << " (" << c.gitCommit << ")\n";
     os << "index";
     for (const auto& p : params) os << ',' << p;
+    for (const auto& p : fixed) os << ',' << p;
     os << ",status,attempts,wall_seconds,core_seconds";
     for (const auto& q : qois) os << ',' << q;
     os << ",run_dir,error\n";
     for (const auto& r : runs) {
         os << r.index;
         for (const auto& p : params) os << ',' << csvField(r.params.value(p, nlohmann::json()));
+        for (const auto& p : fixed) os << ',' << csvField(fixedValue(r, p));
         os << ',' << r.status << ',' << r.attempts << ','
            << (r.wallSeconds ? std::to_string(*r.wallSeconds) : "") << ','
            << (r.coreSeconds ? std::to_string(*r.coreSeconds) : "");

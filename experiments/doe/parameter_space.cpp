@@ -3,6 +3,8 @@
 
 #include <toml++/toml.h>
 
+#include <cmath>
+
 #include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
 
@@ -47,15 +49,21 @@ std::vector<std::pair<std::string, std::string>> knownParameters(const std::stri
 
 std::vector<double> ParameterSpace::toPhysical(const std::vector<double>& unit) const {
     std::vector<double> x(params.size());
-    for (size_t j = 0; j < params.size(); ++j)
-        x[j] = params[j].min + unit.at(j) * (params[j].max - params[j].min);
+    for (size_t j = 0; j < params.size(); ++j) {
+        const auto& p = params[j];
+        x[j] = p.log ? std::exp(std::log(p.min) + unit.at(j) * (std::log(p.max) - std::log(p.min)))
+                     : p.min + unit.at(j) * (p.max - p.min);
+    }
     return x;
 }
 
 std::vector<double> ParameterSpace::toUnit(const std::vector<double>& physical) const {
     std::vector<double> u(params.size());
-    for (size_t j = 0; j < params.size(); ++j)
-        u[j] = (physical.at(j) - params[j].min) / (params[j].max - params[j].min);
+    for (size_t j = 0; j < params.size(); ++j) {
+        const auto& p = params[j];
+        u[j] = p.log ? (std::log(physical.at(j)) - std::log(p.min)) / (std::log(p.max) - std::log(p.min))
+                     : (physical.at(j) - p.min) / (p.max - p.min);
+    }
     return u;
 }
 
@@ -86,8 +94,8 @@ ParameterSpace parseRanges(const std::string& text, const std::string& origin) {
         const auto* tab = node.as_table();
         if (!tab) throw InputError(name, "a value", "a table with min, max and unit");
         for (const auto& [field, _] : *tab)
-            if (field.str() != "min" && field.str() != "max" && field.str() != "unit")
-                throw InputError(name + "." + std::string(field.str()), "(unknown key)", "min|max|unit");
+            if (field.str() != "min" && field.str() != "max" && field.str() != "unit" && field.str() != "scale")
+                throw InputError(name + "." + std::string(field.str()), "(unknown key)", "min|max|unit|scale");
         const auto unit = (*tab)["unit"].value<std::string>();
         if (!unit) throw InputError(name + ".unit", "(missing)", std::string("\"") + k->unit + "\"");
         if (*unit != k->unit) throw InputError(name + ".unit", *unit, std::string("\"") + k->unit + "\"");
@@ -97,7 +105,12 @@ ParameterSpace parseRanges(const std::string& text, const std::string& origin) {
         requireRange(name + ".min", *lo, k->lo, k->hi, !k->loOpen);
         requireRange(name + ".max", *hi, k->lo, k->hi, !k->loOpen);
         if (!(*lo < *hi)) throw InputError(name + ".min", formatNumber(*lo), "< max = " + formatNumber(*hi));
-        ps.params.push_back({name, *unit, *lo, *hi});
+        // A range over a decade or more (the feed, the grain size) is sampled evenly in its log, so
+        // the design does not crowd the top decade.
+        const std::string scale = (*tab)["scale"].value_or(std::string("linear"));
+        if (scale != "linear" && scale != "log") throw InputError(name + ".scale", scale, "linear|log");
+        if (scale == "log" && !(*lo > 0)) throw InputError(name + ".min", formatNumber(*lo), "> 0 for scale = \"log\"");
+        ps.params.push_back({name, *unit, *lo, *hi, scale == "log"});
     }
     if (ps.params.empty()) throw InputError("ranges", origin, "at least one parameter table");
     return ps;

@@ -67,6 +67,34 @@ TEST(CampaignCli, CreateStatusExport) {
     EXPECT_NE(r.err.find("exists"), std::string::npos) << r.err;
 }
 
+// The shipped similarity design of the calibrated scene: rho and I0 held at the scene's values, the
+// feed and d sampled in their logs; the export carries the held inputs, so it trains a surrogate.
+TEST(CampaignCli, ASimilarityDesignExportsEveryInput) {
+    const fs::path dir = scratchDir("campaign-similarity");
+    auto r = runMixload({"campaign", "create", "s", "--ranges", MIXLOAD_SOURCE_DIR "/data/campaigns/mixer-v2-ranges.toml", "--n", "8",
+                         "--scene", "gcm250-v2", "--dir", dir.string()});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const fs::path csv = dir / "s.csv";
+    ASSERT_EQ(runMixload({"campaign", "export", "s", "-o", csv.string(), "--dir", dir.string()}).rc, 0);
+    std::ifstream in(csv);
+    std::string provenance, header, line;
+    std::getline(in, provenance);
+    std::getline(in, header);
+    EXPECT_EQ(header.rfind("index,d,delta_mu,feed_kg_h,mu_s,rpm,scene_hash,i0,rho,status", 0), 0u) << header;
+    int below = 0, rows = 0;
+    while (std::getline(in, line)) {
+        ++rows;
+        std::vector<std::string> f;
+        std::stringstream ss(line);
+        for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+        EXPECT_EQ(f.at(7), "0.28");
+        EXPECT_EQ(f.at(8), "329.84");
+        below += std::stod(f.at(3)) < 12.6;  // the geometric middle of 2.55 .. 64.1 kg/h
+    }
+    EXPECT_EQ(rows, 8);
+    EXPECT_EQ(below, 4) << "a log-scaled Latin hypercube puts half its feeds below the geometric middle";
+}
+
 TEST(CampaignCli, BadRangesCreateNothing) {
     const fs::path dir = scratchDir("campaign-bad");
     struct Case {

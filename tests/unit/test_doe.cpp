@@ -148,6 +148,25 @@ TEST(Doe, BadRangesAreRefusedWithTheirName) {
     expectBad("[rpm]\nmin = 39\nmax = 254\nunit = \"rpm\"\n", "scene = (missing)");
     expectBad("scene = \"mixer\"\n", "at least one parameter");
     expectBad("scene = \"mixer\"\n[rpm\n", "valid TOML");
+    expectBad("scene = \"mixer\"\n[rpm]\nmin = 39\nmax = 254\nunit = \"rpm\"\nscale = \"ln\"\n", "rpm.scale = ln");
+    expectBad("scene = \"mixer\"\n[feed_kg_h]\nmin = 0\nmax = 45\nunit = \"kg/h\"\nscale = \"log\"\n", "feed_kg_h.min = 0");
+}
+
+// A log-scaled range puts the middle of the cube at the geometric mean and round-trips.
+TEST(Doe, LogScaledRangesAreEvenInTheLog) {
+    const auto ps = parseRanges("scene = \"mixer\"\n[feed_kg_h]\nmin = 2.5\nmax = 62.5\nunit = \"kg/h\"\nscale = \"log\"\n"
+                                "[rpm]\nmin = 39\nmax = 254\nunit = \"rpm\"\n",
+                                "log.toml");
+    ASSERT_TRUE(ps.find("feed_kg_h")->log);
+    ASSERT_FALSE(ps.find("rpm")->log);
+    const auto x = ps.toPhysical({0.5, 0.5});
+    EXPECT_NEAR(x[0], 12.5, 1e-12);          // sqrt(2.5 * 62.5)
+    EXPECT_NEAR(x[1], (39 + 254) / 2.0, 1e-12);
+    EXPECT_NEAR(ps.toPhysical({0.0, 0.0})[0], 2.5, 1e-12);
+    EXPECT_NEAR(ps.toPhysical({1.0, 1.0})[0], 62.5, 1e-12);
+    const auto u = ps.toUnit({5.0, 100.0});
+    EXPECT_NEAR(ps.toPhysical(u)[0], 5.0, 1e-12);
+    EXPECT_NEAR(ps.toPhysical(u)[1], 100.0, 1e-12);
 }
 
 // The first adaptive point goes into the largest gap the finished and queued runs leave; the next
