@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
     mixload::app::addStudy(app, action);
     mixload::app::addCampaign(app, action);
     mixload::app::addCalibrate(app, action);
+    mixload::app::addSensitivity(app, action);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

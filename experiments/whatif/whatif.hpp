@@ -22,8 +22,8 @@ inline constexpr std::array<size_t, 5> kMaterial{0, 1, 2, 3, 4};
 nlohmann::json predictionJson(const surrogates::Surrogate& m, const surrogates::Point& x,
                               const surrogates::Prediction& p, const std::string& modelPath);
 
-// For each (feed kg/h, rpm): both predictions, dM, dM/M, its 95% interval (the two errors taken
-// as independent), each changed input's effect alone from the base, and the interaction left.
+// For each (feed kg/h, rpm): both predictions, dM, dM/M, its 95% interval (from the two
+// predictions' joint distribution, Surrogate::predictDifference), each changed input's effect alone from the base, and the interaction left.
 // Throws InputError for a point outside the physical ranges.
 nlohmann::json compareFormulations(const surrogates::Surrogate& m, const std::string& modelPath,
                                    const surrogates::Point& base, const surrogates::Point& changed,

@@ -168,3 +168,31 @@ TEST(SurrogateCli, ShippedModelsReproduceTheReadmeAccuracy) {
         EXPECT_NEAR(j["loo"]["coverage95"].get<double>(), e.looCov, 1e-12) << e.model;
     }
 }
+
+// Sobol indices of the shipped model over its campaign's box: the indices are shares of the
+// variance, the table and plot are written, and a box that is not a mixer's is refused.
+TEST(SurrogateCli, SensitivityWritesSobolIndices) {
+    const fs::path dir = scratchDir("sensitivity");
+    auto r = runMixload({"sensitivity", "--n", "512", "--bootstrap", "50", "--out", (dir / "s").string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["indices"].size(), 7u);
+    EXPECT_EQ(j["evaluations"], 512 * 9);
+    double firstSum = 0;
+    for (const auto& ix : j["indices"]) {
+        firstSum += ix["first"].get<double>();
+        EXPECT_GE(ix["total"].get<double>(), -0.01) << ix.dump();
+        EXPECT_LE(ix["total_ci90"][0].get<double>(), ix["total"].get<double>() + 1e-12) << ix.dump();
+        EXPECT_GE(ix["total_ci90"][1].get<double>(), ix["total"].get<double>() - 1e-12) << ix.dump();
+    }
+    EXPECT_GT(firstSum, 0.8);
+    EXPECT_LT(firstSum, 1.1);
+    EXPECT_TRUE(fs::exists(dir / "s" / "sensitivity.md"));
+    EXPECT_TRUE(fs::exists(dir / "s" / "sensitivity.csv"));
+    const fs::path collapse = dir / "collapse.toml";
+    mixload::writeFileAtomic(collapse, "scene = \"collapse\"\n[aspect]\nmin = 1\nmax = 3\nunit = \"1\"\n");
+    r = runMixload({"sensitivity", "--ranges", collapse.string(), "--out", (dir / "c").string()});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_NE(r.err.find("mixer"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "c"));
+}

@@ -9,6 +9,7 @@
 
 #include "common/input_error.hpp"
 #include "doe/adaptive.hpp"
+#include "sensitivity/sobol_indices.hpp"
 #include "doe/designs.hpp"
 #include "doe/parameter_space.hpp"
 
@@ -195,4 +196,31 @@ TEST(Doe, AdaptivePointsGoWhereTheModelIsLeastSure) {
     EXPECT_GT(mostUncertain(done, y, {}, candidates, 1).picks[0].unit[0], 0.95);
     EXPECT_THROW(mostUncertain(Design(done.begin(), done.begin() + 4), std::vector<double>(y.begin(), y.begin() + 4), {}, candidates, 1),
                  mixload::InputError);
+}
+
+// The Ishigami function's Sobol indices are known in closed form (a = 7, b = 0.1): S = 0.3139,
+// 0.4424, 0; S_T = 0.5576, 0.4424, 0.2437.
+TEST(Sensitivity, SobolIndicesOfTheIshigamiFunction) {
+    using namespace mixload::experiments;
+    const double pi = std::acos(-1.0);
+    const auto ishigami = [&](const std::vector<double>& u) {
+        const double x1 = -pi + 2 * pi * u[0], x2 = -pi + 2 * pi * u[1], x3 = -pi + 2 * pi * u[2];
+        return std::sin(x1) + 7 * std::sin(x2) * std::sin(x2) + 0.1 * std::pow(x3, 4) * std::sin(x1);
+    };
+    const auto s = sobolIndices(3, ishigami, 8192, 200);
+    ASSERT_EQ(s.inputs.size(), 3u);
+    EXPECT_EQ(s.evaluations, 8192 * 5);
+    const double first[3] = {0.3139, 0.4424, 0.0}, total[3] = {0.5576, 0.4424, 0.2437};
+    for (size_t i = 0; i < 3; ++i) {
+        EXPECT_NEAR(s.inputs[i].first, first[i], 0.02) << i;
+        EXPECT_NEAR(s.inputs[i].total, total[i], 0.02) << i;
+        // The 90% bootstrap intervals bracket the estimate, and are narrow at this n.
+        EXPECT_LE(s.inputs[i].firstLo, s.inputs[i].first);
+        EXPECT_GE(s.inputs[i].firstHi, s.inputs[i].first);
+        EXPECT_LT(s.inputs[i].totalHi - s.inputs[i].totalLo, 0.08) << i;
+    }
+    const double variance = 0.5 + 49.0 / 8 + 0.1 * std::pow(pi, 4) / 5 + 0.01 * std::pow(pi, 8) / 18;
+    EXPECT_NEAR(s.variance, variance, 0.02 * variance);
+    EXPECT_THROW(sobolIndices(3, ishigami, 10), mixload::InputError);
+    EXPECT_THROW(sobolIndices(2, [](const std::vector<double>&) { return 1.0; }, 128), mixload::InputError);
 }
