@@ -91,6 +91,8 @@ struct WhatifCmd {
     PointOptions base, changed;
     std::vector<std::string> changes, at;
     std::optional<double> feed, rpm;
+    std::string report;
+    std::vector<double> feeds{5, 15, 30, 45}, rpms{39, 100, 162, 254};  // the paper's feeds and the trends' speeds
     bool json = false;
 };
 
@@ -170,8 +172,24 @@ int whatif(const WhatifCmd& o) {
     const Point a = formulation(o.baseFile, o.base, "", nullptr);
     Point b = formulation(o.newFile, o.changed, "new-", o.newFile.empty() ? &a : nullptr);
     for (const auto& c : o.changes) applyChange(b, c);
-    const auto pts = operatingPoints(o);
     const std::string path = o.model.empty() ? defaultModelPath() : o.model;
+    if (!o.report.empty()) {
+        const auto m = surrogates::Surrogate::load(path);
+        auto r = experiments::whatifReport(m, path, a, b, o.feeds, o.rpms, o.report);
+        if (o.json) {
+            std::cout << r.dump(2) << '\n';
+            return 0;
+        }
+        size_t outside = 0;
+        for (const auto& p : r["points"]) outside += !(p["base"]["in_training_box"].get<bool>() && p["new"]["in_training_box"].get<bool>());
+        std::cout << "what-if over " << r["points"].size() << " operating points from " << path << " (" << m.sourceLabel() << ")\n  table "
+                  << r["table"].get<std::string>();
+        if (!r["plot"].is_null()) std::cout << ", plot " << r["plot"].get<std::string>();
+        std::cout << '\n';
+        if (outside) std::cerr << "mixload: warning: " << outside << " of the points lie outside the model's training box (marked in the table)\n";
+        return 0;
+    }
+    const auto pts = operatingPoints(o);
     const auto m = surrogates::Surrogate::load(path);
     nlohmann::json out{{"model", path}, {"kind", m.kind()}, {"source", m.sourceLabel()}, {"points", nlohmann::json::array()}};
     for (size_t k : kMaterial) {
@@ -235,6 +253,10 @@ void addPredict(CLI::App& app, Action& action) {
     w->add_option("--feed-kg-h", wo->feed, "Operating point: feed [kg/h]");
     w->add_option("--rpm", wo->rpm, "Operating point: impeller speed [rpm]");
     w->add_option("--at", wo->at, "More operating points as FEED_KG_H:RPM (repeatable)");
+    w->add_option("--report", wo->report,
+                  "Write the what-if over the operating map (--feeds x --rpms) to this directory: report.md, report.csv, report.png");
+    w->add_option("--feeds", wo->feeds, "Feeds of the report's map [kg/h]")->delimiter(',')->capture_default_str();
+    w->add_option("--rpms", wo->rpms, "Speeds of the report's map [rpm]")->delimiter(',')->capture_default_str();
     w->add_flag("--json", wo->json, "Print JSON");
     w->callback([&action, wo] { action = [wo] { return whatif(*wo); }; });
 }

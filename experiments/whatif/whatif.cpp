@@ -2,6 +2,13 @@
 #include "whatif/whatif.hpp"
 
 #include <cmath>
+#include <cstdlib>
+#include <iomanip>
+#include <sstream>
+
+#include "common/atomic_file.hpp"
+#include "common/gnuplot.hpp"
+#include "common/input_error.hpp"
 
 namespace mixload::experiments {
 
@@ -59,6 +66,76 @@ nlohmann::json compareFormulations(const surrogates::Surrogate& m, const std::st
                                  {"interaction_kg", dm - sum}});
     }
     return points;
+}
+
+nlohmann::json whatifReport(const surrogates::Surrogate& m, const std::string& modelPath, const Point& base, const Point& changed,
+                            const std::vector<double>& feeds, const std::vector<double>& rpms, const std::filesystem::path& dir) {
+    if (feeds.empty()) throw InputError("feeds", "(none)", "at least one feed [kg/h]");
+    if (rpms.empty()) throw InputError("rpms", "(none)", "at least one speed [rpm]");
+    std::vector<std::pair<double, double>> grid;
+    for (double r : rpms)
+        for (double f : feeds) grid.emplace_back(f, r);
+    const auto points = compareFormulations(m, modelPath, base, changed, grid);  // validates every point first
+
+    std::ostringstream md, csv, dat;
+    md << "What-if over the operating map from `" << modelPath << "` (" << m.sourceLabel() << ").\n\n| | mu_s | mu_d | i0 | d [m] | rho [kg/m3] |\n|---|---|---|---|---|---|\n";
+    for (const auto& [name, x] : {std::pair{"base", base}, std::pair{"new", changed}})
+        md << "| " << name << " | " << formatNumber(x[0]) << " | " << formatNumber(x[1]) << " | " << formatNumber(x[2]) << " | "
+           << formatNumber(x[3]) << " | " << formatNumber(x[4]) << " |\n";
+    md << "\n| feed [kg/h] | rpm | M base [kg] (95%) | M new [kg] (95%) | dM [kg] (95%) | dM/M | largest driver | in box |\n"
+          "|---|---|---|---|---|---|---|---|\n";
+    csv << "feed_kg_h,rpm,m_base_kg,m_base_lo,m_base_hi,m_new_kg,m_new_lo,m_new_hi,delta_kg,delta_lo,delta_hi,delta_rel,driver,driver_kg,"
+           "interaction_kg,in_box\n";
+    const auto ci = [](const nlohmann::json& v) { return v.is_null() ? std::string("–") : formatNumber(v[0]) + " – " + formatNumber(v[1]); };
+    const auto lo = [](const nlohmann::json& v) { return v.is_null() ? NAN : v[0].get<double>(); };
+    const auto hi = [](const nlohmann::json& v) { return v.is_null() ? NAN : v[1].get<double>(); };
+    double lastRpm = NAN;
+    for (const auto& p : points) {
+        std::string driver = "–";
+        double driverKg = 0;
+        for (const auto& a : p["attribution"])
+            if (std::abs(a["delta_kg"].get<double>()) > std::abs(driverKg)) driverKg = a["delta_kg"], driver = a["input"];
+        const bool inBox = p["base"]["in_training_box"].get<bool>() && p["new"]["in_training_box"].get<bool>();
+        const double feed = p["feed_kg_h"], rpm = p["rpm"];
+        md << "| " << formatNumber(feed) << " | " << formatNumber(rpm) << " | " << formatNumber(p["base"]["loading_kg"]) << " ("
+           << ci(p["base"]["ci95_kg"]) << ") | " << formatNumber(p["new"]["loading_kg"]) << " (" << ci(p["new"]["ci95_kg"]) << ") | "
+           << formatNumber(p["delta_kg"]) << " (" << ci(p["delta_ci95_kg"]) << ") | " << std::showpos << std::fixed << std::setprecision(1)
+           << 100 * p["delta_rel"].get<double>() << std::noshowpos << std::defaultfloat << std::setprecision(6) << "% | " << driver << " ("
+           << formatNumber(driverKg) << " kg) | " << (inBox ? "yes" : "no") << " |\n";
+        csv << feed << ',' << rpm << ',' << p["base"]["loading_kg"].get<double>() << ',' << lo(p["base"]["ci95_kg"]) << ','
+            << hi(p["base"]["ci95_kg"]) << ',' << p["new"]["loading_kg"].get<double>() << ',' << lo(p["new"]["ci95_kg"]) << ','
+            << hi(p["new"]["ci95_kg"]) << ',' << p["delta_kg"].get<double>() << ',' << lo(p["delta_ci95_kg"]) << ','
+            << hi(p["delta_ci95_kg"]) << ',' << p["delta_rel"].get<double>() << ',' << driver << ',' << driverKg << ','
+            << p["interaction_kg"].get<double>() << ',' << (inBox ? "true" : "false") << '\n';
+        if (!std::isnan(lastRpm) && rpm != lastRpm) dat << "\n\n";  // one gnuplot data block per speed
+        lastRpm = rpm;
+        dat << feed << ' ' << rpm << ' ' << p["base"]["loading_kg"].get<double>() << ' ' << lo(p["base"]["ci95_kg"]) << ' '
+            << hi(p["base"]["ci95_kg"]) << ' ' << p["new"]["loading_kg"].get<double>() << ' ' << lo(p["new"]["ci95_kg"]) << ' '
+            << hi(p["new"]["ci95_kg"]) << ' ' << p["delta_kg"].get<double>() << ' ' << lo(p["delta_ci95_kg"]) << ' '
+            << hi(p["delta_ci95_kg"]) << '\n';
+    }
+    std::filesystem::create_directories(dir);
+    writeFileAtomic(dir / "report.md", md.str());
+    writeFileAtomic(dir / "report.csv", csv.str());
+    writeFileAtomic(dir / "report.dat", dat.str());
+    std::ostringstream gp, mPlot, dPlot;
+    for (size_t i = 0; i < rpms.size(); ++i) {
+        const std::string sep = i ? ", " : "", idx = " index " + std::to_string(i);
+        mPlot << sep << "'report.dat'" << idx << " using 1:3:4:5 with yerrorlines lc " << i + 1 << " dt 1 title '" << formatNumber(rpms[i])
+              << " rpm', 'report.dat'" << idx << " using 1:6:7:8 with yerrorlines lc " << i + 1 << " dt 2 notitle";
+        dPlot << sep << "'report.dat'" << idx << " using 1:9:10:11 with yerrorlines lc " << i + 1 << " title '" << formatNumber(rpms[i]) << " rpm'";
+    }
+    gp << "set terminal pngcairo size 1200,500 noenhanced\nset output 'report.png.tmp'\nset multiplot layout 1,2 title 'What-if from "
+       << m.sourceLabel() << "'\nset xlabel 'feed [kg/h]'\nset offsets graph 0.03, graph 0.03, 0, 0\nset key top left\nset ylabel 'M [kg]'\n"
+       << "set title 'M: base (solid) and new (dashed), 95% intervals'\nplot " << mPlot.str() << "\n"
+       << "set ylabel 'dM [kg]'\nset title 'dM = M(new) - M(base), 95% interval'\nset xzeroaxis\nplot " << dPlot.str() << "\nunset multiplot\n";
+    const auto warning = runGnuplot(dir, "report.gp", gp.str());
+    if (warning.empty() && std::filesystem::exists(dir / "report.png.tmp")) std::filesystem::rename(dir / "report.png.tmp", dir / "report.png");
+    return {{"points", points},
+            {"table", (dir / "report.md").string()},
+            {"csv", (dir / "report.csv").string()},
+            {"plot", warning.empty() ? nlohmann::json((dir / "report.png").string()) : nlohmann::json()},
+            {"plot_warning", warning}};
 }
 
 }  // namespace mixload::experiments

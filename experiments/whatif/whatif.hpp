@@ -4,6 +4,7 @@
 #pragma once
 #include <array>
 #include <cstddef>
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,5 +29,13 @@ nlohmann::json predictionJson(const surrogates::Surrogate& m, const surrogates::
 nlohmann::json compareFormulations(const surrogates::Surrogate& m, const std::string& modelPath,
                                    const surrogates::Point& base, const surrogates::Point& changed,
                                    const std::vector<std::pair<double, double>>& operatingPoints);
+
+// The what-if over an operating map: compareFormulations at every (feed, rpm) of the grid, written
+// to dir as report.md, report.csv and report.png (M of both formulations with their intervals, and
+// dM with its interval, against the feed, one line per speed), each to a temporary name and
+// renamed. Returns the points as compareFormulations does, and the files.
+nlohmann::json whatifReport(const surrogates::Surrogate& m, const std::string& modelPath, const surrogates::Point& base,
+                            const surrogates::Point& changed, const std::vector<double>& feeds, const std::vector<double>& rpms,
+                            const std::filesystem::path& dir);
 
 }  // namespace mixload::experiments
