@@ -32,8 +32,20 @@ void warnOutside(const surrogates::Surrogate& m, const Point& x, const std::stri
 struct PredictCmd {
     std::string model, batch, output;
     PointOptions point;
-    bool json = false;
+    bool json = false, extrapolate = false;
 };
+
+// Far outside its runs a surrogate answers with its trend, not with physics: refuse there, naming
+// the input, unless the user asks for the number anyway.
+void refuseFarOutside(const surrogates::Surrogate& m, const Point& x, bool extrapolate, const std::string& label = "") {
+    const double d = m.outsideDistance(x);
+    if (extrapolate || d <= surrogates::kMaxExtrapolation) return;
+    std::string where;
+    for (const auto& w : m.outsideBox(x)) where += (where.empty() ? "" : "; ") + w;
+    throw InputError(label + "point", where,
+                     "within " + formatNumber(100 * surrogates::kMaxExtrapolation) + "% of each input's trained range beyond the box (this one: " +
+                         formatNumber(std::round(100 * d)) + "%); run the full model (mixload mixer) there, or pass --extrapolate");
+}
 
 int predictBatch(const PredictCmd& o, const surrogates::Surrogate& m) {
     if (o.output.empty()) throw InputError("output", "(missing)", "-o OUT.csv with --batch");
@@ -49,17 +61,24 @@ int predictBatch(const PredictCmd& o, const surrogates::Surrogate& m) {
     std::ostringstream os;
     os << std::setprecision(17);
     for (const auto& s : kInputSpecs) os << s.name << ',';
-    os << "loading_kg,ci95_lo_kg,ci95_hi_kg,in_training_box\n";
-    size_t outside = 0;
+    os << "loading_kg,ci95_lo_kg,ci95_hi_kg,in_training_box,refused\n";
+    size_t outside = 0, refused = 0;
     for (const auto& x : points) {
         const auto p = m.predict(x, ws);
         for (double v : x) os << v << ',';
-        os << p.m << ',' << p.lo << ',' << p.hi << ',' << (p.inBox ? "true" : "false") << '\n';
+        // Rows too far outside the box get no number (as predict refuses them), unless --extrapolate.
+        const bool refuse = !o.extrapolate && p.outside > surrogates::kMaxExtrapolation;
+        if (refuse) os << ",,,false,true\n";
+        else os << p.m << ',' << p.lo << ',' << p.hi << ',' << (p.inBox ? "true" : "false") << ",false\n";
         outside += !p.inBox;
+        refused += refuse;
     }
     writeFileAtomic(o.output, os.str());
     if (outside) std::cerr << "mixload: warning: " << outside << " of " << points.size() << " points lie outside the training box (in_training_box = false)\n";
-    if (o.json) std::cout << nlohmann::json{{"rows", points.size()}, {"outside_training_box", outside}, {"output", o.output}}.dump(2) << '\n';
+    if (refused)
+        std::cerr << "mixload: warning: " << refused << " of them lie more than " << formatNumber(100 * surrogates::kMaxExtrapolation)
+                  << "% of a trained range beyond it and have no loading (refused = true; --extrapolate to predict them anyway)\n";
+    if (o.json) std::cout << nlohmann::json{{"rows", points.size()}, {"outside_training_box", outside}, {"refused", refused}, {"output", o.output}}.dump(2) << '\n';
     else std::cout << points.size() << " predictions written to " << o.output << '\n';
     return 0;
 }
@@ -69,9 +88,11 @@ int predict(const PredictCmd& o) {
     if (!o.batch.empty()) return predictBatch(o, surrogates::Surrogate::load(path));
     const Point x = o.point.point();  // validated before the model is even read
     const auto m = surrogates::Surrogate::load(path);
+    refuseFarOutside(m, x, o.extrapolate);
     auto ws = m.makeWorkspace();
     const auto p = m.predict(x, ws);
     warnOutside(m, x);
+    if (p.clipped) std::cerr << "mixload: warning: the model's answer fell below zero and was cut at 0 kg\n";
     if (o.json) {
         std::cout << experiments::predictionJson(m, x, p, path).dump(2) << '\n';
         return 0;
@@ -93,7 +114,7 @@ struct WhatifCmd {
     std::optional<double> feed, rpm;
     std::string report;
     std::vector<double> feeds{5, 15, 30, 45}, rpms{39, 100, 162, 254};  // the paper's feeds and the trends' speeds
-    bool json = false;
+    bool json = false, extrapolate = false;
 };
 
 // A formulation: the five material inputs (operating point slots unused).
@@ -191,6 +212,15 @@ int whatif(const WhatifCmd& o) {
     }
     const auto pts = operatingPoints(o);
     const auto m = surrogates::Surrogate::load(path);
+    for (const auto& [feed, rpm] : pts) {
+        Point xa = a, xb = b;
+        xa[5] = xb[5] = feed;
+        xa[6] = xb[6] = rpm;
+        surrogates::requirePhysical(xa);
+        surrogates::requirePhysical(xb);
+        refuseFarOutside(m, xa, o.extrapolate, "base ");
+        refuseFarOutside(m, xb, o.extrapolate, "new ");
+    }
     nlohmann::json out{{"model", path}, {"kind", m.kind()}, {"source", m.sourceLabel()}, {"points", nlohmann::json::array()}};
     for (size_t k : kMaterial) {
         out["base"][kInputSpecs[k].name] = a[k];
@@ -239,6 +269,8 @@ void addPredict(CLI::App& app, Action& action) {
     o->point.add(cmd);
     cmd->add_option("--batch", o->batch, "CSV of points (columns mu_s, mu_d or delta_mu, i0, d, rho, feed_kg_h, rpm)");
     cmd->add_option("-o,--output", o->output, "CSV to write with --batch");
+    cmd->add_flag("--extrapolate", o->extrapolate,
+                  "Answer even far outside the training box (by default refused beyond 25% of an input's trained range)");
     cmd->add_flag("--json", o->json, "Print JSON: loading_kg, ci95_kg, in_training_box, model");
     cmd->callback([&action, o] { action = [o] { return predict(*o); }; });
 
@@ -257,6 +289,8 @@ void addPredict(CLI::App& app, Action& action) {
                   "Write the what-if over the operating map (--feeds x --rpms) to this directory: report.md, report.csv, report.png");
     w->add_option("--feeds", wo->feeds, "Feeds of the report's map [kg/h]")->delimiter(',')->capture_default_str();
     w->add_option("--rpms", wo->rpms, "Speeds of the report's map [rpm]")->delimiter(',')->capture_default_str();
+    w->add_flag("--extrapolate", wo->extrapolate,
+                "Answer even far outside the training box (by default refused beyond 25% of an input's trained range; --report marks such points instead)");
     w->add_flag("--json", wo->json, "Print JSON");
     w->callback([&action, wo] { action = [wo] { return whatif(*wo); }; });
 }

@@ -188,6 +188,22 @@ bool Surrogate::inBox(const Point& x) const {
     return true;
 }
 
+double Surrogate::outsideDistance(const Point& x) const {
+    double z[kInputs];
+    scale(x, z);
+    return distanceOf(z);
+}
+
+// From scaled inputs: [0, 1] over the box for kriging, [-1, 1] for a response surface.
+double Surrogate::distanceOf(const double* z) const {
+    double worst = 0;
+    for (size_t k = 0; k < in_.size(); ++k) {
+        const double s = kind_ == "rsm" ? 0.5 * (z[k] + 1) : z[k];
+        worst = std::max(worst, std::max(-s, s - 1));
+    }
+    return worst;
+}
+
 std::vector<std::string> Surrogate::outsideBox(const Point& x) const {
     std::vector<std::string> out;
     double v[kInputs];
@@ -216,7 +232,16 @@ Prediction Surrogate::predict(const Point& x, Workspace& ws) const {
     p.m = c * back(tf_.logOutput, mean);
     p.lo = c * back(tf_.logOutput, mean - q * sd);
     p.hi = c * back(tf_.logOutput, mean + q * sd);
+    // A loading is never negative: a model of M itself (not of log M) can say so far from its
+    // runs, and the answer is then cut at zero and flagged.
+    if (p.lo < 0 || p.m < 0) {
+        p.clipped = true;
+        p.lo = std::max(p.lo, 0.0);
+        p.m = std::max(p.m, 0.0);
+        p.hi = std::max(p.hi, 0.0);
+    }
     p.inBox = inBox(x);
+    p.outside = distanceOf(z);
     return p;
 }
 

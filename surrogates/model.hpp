@@ -47,10 +47,19 @@ struct FitOptions {
     KrigingOptions kriging;
 };
 
+// Beyond this distance from the training box (a share of an input's trained range) the tools
+// refuse to answer unless told to extrapolate: a kriging model there returns its trend, and a
+// response surface its quadratic, neither of which knows the physics (README, Surrogates).
+inline constexpr double kMaxExtrapolation = 0.25;
+
 struct Prediction {
     double m = 0;              // [kg]
     double lo = 0, hi = 0;     // 95% interval for a full run's result [kg] (NaN if none)
     bool inBox = true;         // every input inside the training box
+    // How far the point lies outside the box: the largest excess of a model input beyond the
+    // box, as a share of that input's trained range (in the model's own, possibly log, units).
+    double outside = 0;
+    bool clipped = false;      // the mean or the interval fell below zero and was set to 0
 };
 
 // The difference of two predictions, M(b) - M(a), and the 95% interval of the difference between
@@ -78,6 +87,8 @@ public:
     // Inside the training box of the model's own inputs (with similarity, a density outside the
     // trained range is inside when feed/rho is).
     bool inBox(const Point& x) const;
+    // Prediction::outside for x, without predicting.
+    double outsideDistance(const Point& x) const;
     // Model inputs outside the training box as "name = value (box lo..hi unit)".
     std::vector<std::string> outsideBox(const Point& x) const;
 
@@ -107,6 +118,7 @@ public:
 
 private:
     void derive(const Point& x, double* v) const;  // the model inputs, physical units
+    double distanceOf(const double* z) const;      // Prediction::outside from scaled inputs
     void scale(const Point& x, double* z) const;
     double outputScale(const Point& x) const { return tf_.similarity ? x[4] : 1.0; }  // M = scale * model output
     void setInputs();

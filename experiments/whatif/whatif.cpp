@@ -20,6 +20,8 @@ nlohmann::json predictionJson(const surrogates::Surrogate& m, const surrogates::
     nlohmann::json j{{"loading_kg", p.m},
                      {"ci95_kg", std::isnan(p.lo) ? nlohmann::json() : nlohmann::json{p.lo, p.hi}},
                      {"in_training_box", p.inBox},
+                     {"outside_distance", p.outside},
+                     {"clipped_at_zero", p.clipped},
                      {"model", modelPath},
                      {"kind", m.kind()},
                      {"source", m.sourceLabel()}};

@@ -67,11 +67,22 @@ TEST(SurrogateCli, FitPredictWhatifCheck) {
     EXPECT_GE(j["ci95_kg"][1].get<double>(), j["loading_kg"].get<double>());
     EXPECT_TRUE(r.err.empty()) << r.err;
 
-    // Outside the box: a warning on stderr and in the JSON, not silence.
-    r = runMixload(cat({"predict", "--model", model.string(), "--feed-kg-h", "80", "--rpm", "100", "--json"}, kAvicel));
+    // Just outside the box: a warning on stderr and in the JSON, not silence.
+    r = runMixload(cat({"predict", "--model", model.string(), "--feed-kg-h", "50", "--rpm", "100", "--json"}, kAvicel));
     ASSERT_EQ(r.rc, 0) << r.err;
     EXPECT_FALSE(nlohmann::json::parse(r.out)["in_training_box"].get<bool>());
-    EXPECT_NE(r.err.find("outside the training box: feed_kg_h = 80"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("outside the training box: feed_kg_h = 50"), std::string::npos) << r.err;
+    // Far outside: refused with the input named, unless the user asks to extrapolate; then the
+    // interval stays physical.
+    r = runMixload(cat({"predict", "--model", model.string(), "--feed-kg-h", "500", "--rpm", "100"}, kAvicel));
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_NE(r.err.find("feed_kg_h = 500"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--extrapolate"), std::string::npos) << r.err;
+    r = runMixload(cat({"predict", "--model", model.string(), "--feed-kg-h", "500", "--rpm", "100", "--extrapolate", "--json"}, kAvicel));
+    ASSERT_EQ(r.rc, 0) << r.err;
+    j = nlohmann::json::parse(r.out);
+    EXPECT_GE(j["ci95_kg"][0].get<double>(), 0.0);
+    EXPECT_GT(j["outside_distance"].get<double>(), 1.0);  // in the model's units: log feed here
 
     // Non-physical input: exit 2, one clear line.
     for (const auto& [flag, value, needle] : std::vector<std::array<std::string, 3>>{

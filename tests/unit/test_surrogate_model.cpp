@@ -268,3 +268,27 @@ TEST(SurrogateModel, ADifferenceCarriesTheCorrelationOfItsTwoPredictions) {
         EXPECT_EQ(again.hi, d.hi);
     }
 }
+
+TEST(SurrogateModel, FarOutsideTheBoxTheAnswerStaysPhysical) {
+    FitOptions o;
+    o.kind = "kriging";
+    o.transform = "none";  // a model of M itself can go negative when it extrapolates
+    const auto train = rows(30, 17);
+    const auto m = Surrogate::fit(train, o, {});
+    auto ws = m.makeWorkspace();
+    EXPECT_EQ(m.outsideDistance(train[0].x), 0.0);
+    Point x = train[0].x;
+    const double range = m.boxMax()[6] - m.boxMin()[6];
+    x[6] = m.boxMax()[6] + 0.5 * range;  // half the trained range beyond the box
+    EXPECT_NEAR(m.outsideDistance(x), 0.5, 1e-12);
+    EXPECT_NEAR(m.predict(x, ws).outside, 0.5, 1e-12);
+    for (double f : {-5.0, 20.0, 200.0}) {
+        x = train[0].x;
+        x[5] = m.boxMax()[5] * (1 + f);
+        if (!(x[5] > 0)) continue;
+        const auto p = m.predict(x, ws);
+        EXPECT_GE(p.lo, 0.0);
+        EXPECT_GE(p.m, 0.0);
+        EXPECT_GE(p.hi, p.m);
+    }
+}
