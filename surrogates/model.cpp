@@ -204,6 +204,16 @@ double Surrogate::distanceOf(const double* z) const {
     return worst;
 }
 
+void Surrogate::requireNearBox(const Point& x, const std::string& label) const {
+    const double d = outsideDistance(x);
+    if (d <= kMaxExtrapolation) return;
+    std::string where;
+    for (const auto& w : outsideBox(x)) where += (where.empty() ? "" : "; ") + w;
+    throw InputError(label + "point", where,
+                     "within " + formatNumber(100 * kMaxExtrapolation) + "% of each input's trained range beyond the box (this one: " +
+                         formatNumber(std::round(100 * d)) + "%); run the full model (mixload mixer) there, or pass --extrapolate");
+}
+
 std::vector<std::string> Surrogate::outsideBox(const Point& x) const {
     std::vector<std::string> out;
     double v[kInputs];

@@ -89,6 +89,9 @@ public:
     bool inBox(const Point& x) const;
     // Prediction::outside for x, without predicting.
     double outsideDistance(const Point& x) const;
+    // Throws InputError naming the inputs outside the box when x lies more than kMaxExtrapolation
+    // beyond it; label prefixes the field ("base ", "new ").
+    void requireNearBox(const Point& x, const std::string& label = "") const;
     // Model inputs outside the training box as "name = value (box lo..hi unit)".
     std::vector<std::string> outsideBox(const Point& x) const;
 

@@ -30,15 +30,22 @@ nlohmann::json predictionJson(const surrogates::Surrogate& m, const surrogates::
 }
 
 nlohmann::json compareFormulations(const surrogates::Surrogate& m, const std::string& modelPath, const Point& base,
-                                   const Point& changed, const std::vector<std::pair<double, double>>& operatingPoints) {
-    auto ws = m.makeWorkspace();
-    nlohmann::json points = nlohmann::json::array();
+                                   const Point& changed, const std::vector<std::pair<double, double>>& operatingPoints,
+                                   bool extrapolate) {
+    std::vector<std::pair<Point, Point>> pairs;
     for (const auto& [feed, rpm] : operatingPoints) {
         Point xa = base, xb = changed;
         xa[5] = xb[5] = feed;
         xa[6] = xb[6] = rpm;
         surrogates::requirePhysical(xa);
         surrogates::requirePhysical(xb);
+        if (!extrapolate) m.requireNearBox(xa, "base "), m.requireNearBox(xb, "new ");
+        pairs.emplace_back(xa, xb);
+    }
+    auto ws = m.makeWorkspace();
+    nlohmann::json points = nlohmann::json::array();
+    for (const auto& [xa, xb] : pairs) {
+        const double feed = xa[5], rpm = xa[6];
         const auto pa = m.predict(xa, ws), pb = m.predict(xb, ws);
         // The two predictions share most of their error: the interval of the difference comes
         // from their joint distribution (the independent one beside it, for comparison).

@@ -25,10 +25,11 @@ nlohmann::json predictionJson(const surrogates::Surrogate& m, const surrogates::
 
 // For each (feed kg/h, rpm): both predictions, dM, dM/M, its 95% interval (from the two
 // predictions' joint distribution, Surrogate::predictDifference), each changed input's effect alone from the base, and the interaction left.
-// Throws InputError for a point outside the physical ranges.
+// Throws InputError for a point outside the physical ranges, and (unless extrapolate) for one
+// farther from the training box than Surrogate::requireNearBox allows; nothing is predicted then.
 nlohmann::json compareFormulations(const surrogates::Surrogate& m, const std::string& modelPath,
                                    const surrogates::Point& base, const surrogates::Point& changed,
-                                   const std::vector<std::pair<double, double>>& operatingPoints);
+                                   const std::vector<std::pair<double, double>>& operatingPoints, bool extrapolate = true);
 
 // The what-if over an operating map: compareFormulations at every (feed, rpm) of the grid, written
 // to dir as report.md, report.csv and report.png (M of both formulations with their intervals, and
