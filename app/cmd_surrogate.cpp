@@ -11,6 +11,7 @@
 #include "common/clock.hpp"
 #include "common/input_error.hpp"
 #include "mixload_version.hpp"
+#include "learning_curve.hpp"
 #include "model.hpp"
 
 namespace mixload::app {
@@ -21,6 +22,9 @@ struct SurrogateCmd {
     std::string campaign, dir = "runs/campaigns", table, kind = "kriging", output, model, transform = "auto",
                 kernel = "matern52", trend = "constant", objective = "likelihood";
     int holdout = 0, starts = 20;
+    std::vector<int> sizes;
+    double target = 0.03;
+    std::string out = "runs/surrogates/curve";
     unsigned seed = 1;
     bool noSelect = false, json = false, noRecord = false, similarity = false;
     std::optional<double> threshold;
@@ -44,9 +48,7 @@ std::string pct(const nlohmann::json& v) {
     return os.str();
 }
 
-int fit(const SurrogateCmd& o) {
-    if (o.output.empty()) throw InputError("output", "(missing)", "-o MODEL.json");
-    requireRange("holdout", o.holdout, 0, 1e6);
+surrogates::FitOptions fitOptions(const SurrogateCmd& o) {
     surrogates::FitOptions f;
     f.kind = o.kind;
     f.transform = o.transform;
@@ -64,6 +66,13 @@ int fit(const SurrogateCmd& o) {
     f.kriging.objective = o.objective;
     f.kriging.starts = o.starts;
     f.kriging.seed = o.seed;
+    return f;
+}
+
+int fit(const SurrogateCmd& o) {
+    if (o.output.empty()) throw InputError("output", "(missing)", "-o MODEL.json");
+    requireRange("holdout", o.holdout, 0, 1e6);
+    const auto f = fitOptions(o);
     nlohmann::json source;
     auto runs = loadRuns(o, source);
     if (static_cast<size_t>(o.holdout) >= runs.rows.size())
@@ -105,6 +114,50 @@ int fit(const SurrogateCmd& o) {
               << pct(v["coverage95"]) << "\n  fitted in " << std::setprecision(3) << seconds << " s, written to " << o.output
               << '\n';
     for (const auto& w : model.warnings()) std::cout << "  warning: " << w << '\n';
+    return 0;
+}
+
+// Error against training runs: the last --holdout runs fixed as the hold-out, the model refitted
+// on the first n of the others for each n.
+int curve(const SurrogateCmd& o) {
+    const auto f = fitOptions(o);
+    nlohmann::json source;
+    const auto runs = loadRuns(o, source);
+    requireRange("holdout", o.holdout, 1, static_cast<int>(runs.rows.size()) - 5);
+    const std::vector<surrogates::Row> train(runs.rows.begin(), runs.rows.end() - o.holdout),
+        held(runs.rows.end() - o.holdout, runs.rows.end());
+    std::vector<int> sizes = o.sizes;
+    if (sizes.empty())  // about six sizes from 8 (or 5) to every training run, evenly in log
+        for (double n = std::min<double>(8, static_cast<double>(train.size())); ; n *= 1.4) {
+            const int k = std::min(static_cast<int>(std::lround(n)), static_cast<int>(train.size()));
+            if (sizes.empty() || k > sizes.back()) sizes.push_back(k);
+            if (k == static_cast<int>(train.size())) break;
+        }
+    const auto c = surrogates::learningCurve(train, held, f, sizes);
+    const auto law = surrogates::powerLawOf(c, o.target);
+    const std::string label = o.kind + (o.similarity ? " (similarity)" : "") + ", " + std::to_string(held.size()) + " hold-out runs";
+    const auto files = surrogates::writeLearningCurve(c, law, label, o.out);
+    nlohmann::json points = nlohmann::json::array();
+    for (const auto& p : c)
+        points.push_back({{"n", p.n}, {"holdout_mean", p.mean}, {"holdout_ci90", {p.lo, p.hi}}, {"holdout_max", p.max},
+                          {"coverage95", std::isnan(p.coverage) ? nlohmann::json() : nlohmann::json(p.coverage)}, {"loo_mean", p.looMean}});
+    const nlohmann::json out{{"source", source}, {"kind", o.kind}, {"similarity", o.similarity}, {"n_holdout", held.size()},
+                             {"points", points}, {"power_law", law}, {"files", files}};
+    if (o.json) {
+        std::cout << out.dump(2) << '\n';
+        return 0;
+    }
+    std::cout << "learning curve of the " << label << '\n';
+    for (const auto& p : c)
+        std::cout << "  " << std::setw(4) << p.n << " runs: hold-out mean " << pct(p.mean) << " (90% bootstrap " << pct(p.lo) << " .. "
+                  << pct(p.hi) << "), leave-one-out " << pct(p.looMean) << '\n';
+    if (!law.is_null()) {
+        std::cout << "  power law: error ~ n^-" << std::setprecision(3) << law["exponent"].get<double>();
+        if (!law["runs_for_target"].is_null())
+            std::cout << "; " << pct(o.target) << " at about " << std::lround(law["runs_for_target"].get<double>()) << " runs (extrapolated)";
+        std::cout << '\n';
+    }
+    std::cout << "  table " << files["table"].get<std::string>() << '\n';
     return 0;
 }
 
@@ -252,6 +305,20 @@ void addSurrogate(CLI::App& app, Action& action) {
     f->add_option("--seed", o->seed, "kriging: seed of the multistart")->capture_default_str();
     f->add_flag("--json", o->json, "Print JSON");
     f->callback([&action, o] { action = [o] { return fit(*o); }; });
+
+    auto* cv = cmd->add_subcommand("curve", "Learning curve: hold-out error against the number of training runs (the last --holdout runs fixed as the hold-out)");
+    cv->add_option("--campaign", o->campaign, "Mixer campaign");
+    cv->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
+    cv->add_option("--table", o->table, "CSV instead of a campaign");
+    cv->add_option("--kind", o->kind, "rsm | kriging")->capture_default_str();
+    cv->add_option("--holdout", o->holdout, "The last N runs: the fixed hold-out")->required();
+    cv->add_option("--sizes", o->sizes, "Training-set sizes (default: about six from 8 to all, even in log)")->delimiter(',');
+    cv->add_option("--transform", o->transform, "auto | none | log")->capture_default_str();
+    cv->add_flag("--similarity", o->similarity, "Fit in the similarity variables (as surrogate fit --similarity)");
+    cv->add_option("--target", o->target, "Error the power law is extrapolated to (runs needed)")->capture_default_str();
+    cv->add_option("--out", o->out, "Directory for curve.md, .csv and .png")->capture_default_str();
+    cv->add_flag("--json", o->json, "Print JSON");
+    cv->callback([&action, o] { action = [o] { return curve(*o); }; });
 
     auto* i = cmd->add_subcommand("info", "Print a model's inputs, training box, coefficients, validation and provenance");
     i->add_option("MODEL", o->model, "Model file")->required();

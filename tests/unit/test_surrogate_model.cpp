@@ -14,6 +14,7 @@
 #include "check.hpp"
 #include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
+#include "learning_curve.hpp"
 #include "model.hpp"
 
 using namespace mixload::surrogates;
@@ -291,4 +292,27 @@ TEST(SurrogateModel, FarOutsideTheBoxTheAnswerStaysPhysical) {
         EXPECT_GE(p.m, 0.0);
         EXPECT_GE(p.hi, p.m);
     }
+}
+
+TEST(SurrogateModel, LearningCurveFallsWithMoreRuns) {
+    const auto train = rows(40, 21), held = rows(20, 22);
+    FitOptions o;
+    o.kind = "kriging";
+    o.transform = "log";
+    const auto c = learningCurve(train, held, o, {8, 16, 40});
+    ASSERT_EQ(c.size(), 3u);
+    EXPECT_EQ(c[2].n, 40);
+    EXPECT_LT(c[2].mean, c[0].mean);
+    for (const auto& p : c) {
+        EXPECT_LE(p.lo, p.mean);
+        EXPECT_GE(p.hi, p.mean);
+        EXPECT_GE(p.max, p.mean);
+    }
+    const auto law = powerLawOf(c, 0.001);
+    EXPECT_GT(law["exponent"].get<double>(), 0.0);
+    const double n = law["runs_for_target"].get<double>();
+    EXPECT_NEAR(law["coefficient"].get<double>() * std::pow(n, -law["exponent"].get<double>()), 0.001, 1e-9);
+    EXPECT_THROW(learningCurve(train, held, o, {4}), mixload::InputError);
+    EXPECT_THROW(learningCurve(train, held, o, {41}), mixload::InputError);
+    EXPECT_THROW(learningCurve(train, {}, o, {8}), mixload::InputError);
 }
