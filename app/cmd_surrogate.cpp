@@ -280,41 +280,45 @@ int runCheck(const std::string& modelPath, const std::string& campaign, const st
     return failed ? 1 : 0;
 }
 
+namespace {
+
+// The runs a model learns from and how it is fitted: shared by `surrogate fit` and `surrogate curve`.
+void addFitOptions(CLI::App* c, SurrogateCmd* o) {
+    c->add_option("--campaign", o->campaign, "Mixer campaign whose finished, steady runs train the model");
+    c->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
+    c->add_option("--table", o->table, "CSV instead of a campaign (columns as `campaign export` writes)");
+    c->add_option("--kind", o->kind, "rsm | kriging")->capture_default_str();
+    c->add_option("--transform", o->transform, "auto (by leave-one-out error) | none | log (log M, log of d, rho, feed, rpm)")
+        ->capture_default_str();
+    c->add_flag("--similarity", o->similarity,
+                "Fit M/rho in the similarity variables mu_s, mu_d, d/i0, feed/rho, rpm (exact in the model up to the air's inertia; README, Exact similarity)");
+    c->add_flag("--no-select", o->noSelect, "rsm: keep every term of the full quadratic (no PRESS selection)");
+    c->add_option("--kernel", o->kernel, "kriging: matern52 | se")->capture_default_str();
+    c->add_option("--trend", o->trend, "kriging: constant | linear")->capture_default_str();
+    c->add_option("--objective", o->objective, "kriging: hyperparameters by likelihood | loo (closed-form leave-one-out error)")
+        ->capture_default_str();
+    c->add_option("--starts", o->starts, "kriging: multistart count of the likelihood optimisation")->capture_default_str();
+    c->add_option("--seed", o->seed, "kriging: seed of the multistart")->capture_default_str();
+}
+
+}  // namespace
+
 void addSurrogate(CLI::App& app, Action& action) {
     auto* cmd = app.add_subcommand("surrogate", "Fit and inspect surrogate models of the mixer loading M");
     cmd->require_subcommand(1);
     auto o = std::make_shared<SurrogateCmd>();
 
     auto* f = cmd->add_subcommand("fit", "Fit a response surface or kriging model to full runs");
-    f->add_option("--campaign", o->campaign, "Mixer campaign whose finished, steady runs train the model");
-    f->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
-    f->add_option("--table", o->table, "CSV instead of a campaign (columns as `campaign export` writes)");
-    f->add_option("--kind", o->kind, "rsm | kriging")->capture_default_str();
+    addFitOptions(f, o.get());
     f->add_option("-o,--output", o->output, "Model file to write (.json)")->required();
     f->add_option("--holdout", o->holdout, "Keep the last N runs out of training (for `mixload check`)")->capture_default_str();
-    f->add_option("--transform", o->transform, "auto (by leave-one-out error) | none | log (log M, log of d, rho, feed, rpm)")
-        ->capture_default_str();
-    f->add_flag("--similarity", o->similarity,
-                "Fit M/rho in the similarity variables mu_s, mu_d, d/i0, feed/rho, rpm (exact in the model up to the air's inertia; README, Exact similarity)");
-    f->add_flag("--no-select", o->noSelect, "rsm: keep every term of the full quadratic (no PRESS selection)");
-    f->add_option("--kernel", o->kernel, "kriging: matern52 | se")->capture_default_str();
-    f->add_option("--trend", o->trend, "kriging: constant | linear")->capture_default_str();
-    f->add_option("--objective", o->objective, "kriging: hyperparameters by likelihood | loo (closed-form leave-one-out error)")
-        ->capture_default_str();
-    f->add_option("--starts", o->starts, "kriging: multistart count of the likelihood optimisation")->capture_default_str();
-    f->add_option("--seed", o->seed, "kriging: seed of the multistart")->capture_default_str();
     f->add_flag("--json", o->json, "Print JSON");
     f->callback([&action, o] { action = [o] { return fit(*o); }; });
 
     auto* cv = cmd->add_subcommand("curve", "Learning curve: hold-out error against the number of training runs (the last --holdout runs fixed as the hold-out)");
-    cv->add_option("--campaign", o->campaign, "Mixer campaign");
-    cv->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
-    cv->add_option("--table", o->table, "CSV instead of a campaign");
-    cv->add_option("--kind", o->kind, "rsm | kriging")->capture_default_str();
+    addFitOptions(cv, o.get());
     cv->add_option("--holdout", o->holdout, "The last N runs: the fixed hold-out")->required();
     cv->add_option("--sizes", o->sizes, "Training-set sizes (default: about six from 8 to all, even in log)")->delimiter(',');
-    cv->add_option("--transform", o->transform, "auto | none | log")->capture_default_str();
-    cv->add_flag("--similarity", o->similarity, "Fit in the similarity variables (as surrogate fit --similarity)");
     cv->add_option("--target", o->target, "Error the power law is extrapolated to (runs needed)")->capture_default_str();
     cv->add_option("--out", o->out, "Directory for curve.md, .csv and .png")->capture_default_str();
     cv->add_flag("--json", o->json, "Print JSON");
