@@ -23,7 +23,7 @@ struct SurrogateCmd {
                 kernel = "matern52", trend = "constant", objective = "likelihood";
     int holdout = 0, starts = 20;
     std::vector<int> sizes;
-    double target = 0.03;
+    double target = 0.03, noise = 0;
     std::string out = "runs/surrogates/curve";
     unsigned seed = 1;
     bool noSelect = false, json = false, noRecord = false, similarity = false;
@@ -53,6 +53,8 @@ surrogates::FitOptions fitOptions(const SurrogateCmd& o) {
     f.kind = o.kind;
     f.transform = o.transform;
     f.similarity = o.similarity;
+    requireRange("noise", o.noise, 0, 1);
+    f.noise = o.noise;
     f.select = !o.noSelect;
     try {
         f.kriging.kernel = surrogates::kernelFromString(o.kernel == "se" ? "squared-exponential" : o.kernel);
@@ -87,7 +89,7 @@ int fit(const SurrogateCmd& o) {
                                     {"runs_usable", runs.rows.size()},
                                     {"runs_skipped", runs.skipped},
                                     {"holdout_ids", held},
-                                    {"options", {{"kind", o.kind}, {"transform", o.transform}, {"similarity", o.similarity}, {"select", !o.noSelect},
+                                    {"options", {{"kind", o.kind}, {"transform", o.transform}, {"similarity", o.similarity}, {"noise", o.noise}, {"select", !o.noSelect},
                                                  {"kernel", o.kernel}, {"trend", o.trend}, {"objective", o.objective}, {"starts", o.starts},
                                                  {"seed", o.seed}}},
                                     {"mixload_version", kVersion},
@@ -95,7 +97,7 @@ int fit(const SurrogateCmd& o) {
                                     {"created_utc", utcNow()},
                                     {"command", "mixload surrogate fit " + (o.campaign.empty() ? "--table " + o.table : "--campaign " + o.campaign) +
                                                     " --kind " + o.kind + " --holdout " + std::to_string(o.holdout) +
-                                                    (o.similarity ? " --similarity" : "")}};
+                                                    (o.similarity ? " --similarity" : "") + (o.noise > 0 ? " --noise " + formatNumber(o.noise) : "")}};
     const auto t0 = std::chrono::steady_clock::now();
     auto model = surrogates::Surrogate::fit(train, f, provenance);
     const double seconds = secondsSince(t0);
@@ -292,6 +294,8 @@ void addFitOptions(CLI::App* c, SurrogateCmd* o) {
         ->capture_default_str();
     c->add_flag("--similarity", o->similarity,
                 "Fit M/rho in the similarity variables mu_s, mu_d, d/i0, feed/rho, rpm (exact in the model up to the air's inertia; README, Exact similarity)");
+    c->add_option("--noise", o->noise, "kriging: relative scatter of a run's loading (e.g. 0.01): the nugget is kept at or above it")
+        ->capture_default_str();
     c->add_flag("--no-select", o->noSelect, "rsm: keep every term of the full quadratic (no PRESS selection)");
     c->add_option("--kernel", o->kernel, "kriging: matern52 | se")->capture_default_str();
     c->add_option("--trend", o->trend, "kriging: constant | linear")->capture_default_str();

@@ -135,8 +135,11 @@ Surrogate Surrogate::fit(const std::vector<Row>& train, const FitOptions& o, nlo
                 looVar(i) = rs.residualVariance() / std::max(1 - rs.leverages()(i), 1e-12);
             }
         } else {
+            auto ko = o.kriging;
+            // In log M the relative noise is the noise itself; in M, relative to the typical loading.
+            if (o.noise > 0) ko.noiseVarianceMin = tf.logOutput ? o.noise * o.noise : std::pow(o.noise * y.cwiseAbs().mean(), 2);
             try {
-                s.kriging_ = Kriging::fit(Z, y, o.kriging);
+                s.kriging_ = Kriging::fit(Z, y, ko);
             } catch (const std::invalid_argument& e) {
                 throw InputError(e.what());  // e.g. too few runs for a linear trend
             }

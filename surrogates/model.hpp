@@ -43,6 +43,9 @@ struct FitOptions {
     std::string kind = "kriging";    // rsm | kriging
     std::string transform = "auto";  // auto (chosen by leave-one-out error) | none | log
     bool similarity = false;         // fit M/rho in the similarity variables (Transform::similarity)
+    // Relative scatter of a run's loading (the steady test's label noise, about 0.01): kriging's
+    // nugget is kept at or above it (KrigingOptions::noiseVarianceMin; 0: no floor).
+    double noise = 0;
     bool select = true;              // rsm: forward term selection by PRESS
     KrigingOptions kriging;
 };

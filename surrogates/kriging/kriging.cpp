@@ -393,6 +393,19 @@ Kriging Kriging::fit(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const K
     for (int k = 0; k < d; ++k) ls[k] = std::exp(ctx.best[static_cast<std::size_t>(k)]);
     const double g = o.estimateNugget ? std::exp(ctx.best.back()) : o.nugget;
     Kriging model = withHyperparameters(X, y, o.kernel, o.trend, ls, g);
+    if (o.noiseVarianceMin > 0 && model.sigma2_ * model.nugget_ < o.noiseVarianceMin) {
+        // sigma^2 is profiled, so fixing g = floor / sigma^2 moves sigma^2: a few fixed-point steps.
+        KrigingOptions fixed = o;
+        fixed.estimateNugget = false;
+        fixed.noiseVarianceMin = 0;
+        for (int it = 0; it < 8 && model.sigma2_ * model.nugget_ < 0.99 * o.noiseVarianceMin; ++it) {
+            fixed.nugget = std::min(o.noiseVarianceMin / model.sigma2_, o.nuggetMax);
+            model = fit(X, y, fixed);
+        }
+        model.warnings_.push_back("nugget raised to the data's noise floor: sigma^2 g = " + formatBound(model.sigma2_ * model.nugget_) +
+                                  " (floor " + formatBound(o.noiseVarianceMin) + ")");
+        return model;
+    }
 
     // "On a bound" within 1 % of the log-width of the box: the optimiser stalls a little short of a
     // bound where the objective is flat, which is exactly the case worth reporting.

@@ -27,6 +27,10 @@ struct KrigingOptions {
     int starts = 20;
     unsigned seed = 1;
     std::string objective = "likelihood";  // or "loo": minimise the closed-form LOO mean squared error
+    // The scatter the data are known to carry (variance, output units): a fitted nugget whose
+    // variance sigma^2 g falls below it is raised to it (the length scales refitted with the
+    // nugget fixed), since a model that treats noisy runs as exact gives intervals too narrow.
+    double noiseVarianceMin = 0;
 };
 
 // Gaussian-process regression with a GLS-estimated trend (universal kriging).

@@ -361,3 +361,24 @@ TEST(Kriging, PairCovarianceIsTheFlatPriorPosterior) {
         EXPECT_GT(cov(0, 1) / std::sqrt(cov(0, 0) * cov(1, 1)), 0.5);
     }
 }
+
+// A smooth function fitted exactly puts the nugget on its lower bound; with a noise floor the
+// nugget's variance is raised to it, and the model says so.
+TEST(Kriging, NuggetIsKeptAtTheNoiseFloor) {
+    const Eigen::MatrixXd X = randomPoints(20, 2, 31);
+    const Eigen::VectorXd y = evaluate(X);
+    KrigingOptions o;
+    o.starts = 5;
+    const auto free = Kriging::fit(X, y, o);
+    const double floor = 1e-3;
+    ASSERT_LT(free.processVariance() * free.nugget(), floor);
+    o.noiseVarianceMin = floor;
+    const auto m = Kriging::fit(X, y, o);
+    EXPECT_GE(m.processVariance() * m.nugget(), 0.99 * floor);
+    bool said = false;
+    for (const auto& w : m.warnings()) said |= w.find("noise floor") != std::string::npos;
+    EXPECT_TRUE(said);
+    // Above the floor already: nothing changes.
+    o.noiseVarianceMin = 1e-3 * free.processVariance() * free.nugget();
+    EXPECT_EQ(Kriging::fit(X, y, o).nugget(), free.nugget());
+}
