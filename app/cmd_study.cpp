@@ -9,6 +9,7 @@
 #include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
 #include "studies/collapse_study.hpp"
+#include "studies/fidelity_pilot.hpp"
 #include "post/verdict_replay.hpp"
 #include "studies/formulation_study.hpp"
 #include "studies/mixer_study.hpp"
@@ -169,6 +170,33 @@ void addStudy(CLI::App& app, Action& action) {
                            << "\nM(t) of every run: " << r["histories_plot"].get<std::string>() << '\n';
             for (const auto& row : r["rows"])
                 if (row.contains("error")) return 1;
+            return 0;
+        };
+    });
+
+    auto* fp = study->add_subcommand(
+        "fidelity", "Multi-fidelity pilot: the same formulation study on two meshes, paired variant by variant: "
+                    "M_fine against M_coarse, r^2, and whether co-kriging would earn its place (issue 16)");
+    auto fid = std::make_shared<std::array<std::string, 3>>();
+    (*fid)[2] = "runs/studies/fidelity";
+    auto fjson = std::make_shared<bool>(false);
+    fp->add_option("--fine", (*fid)[0], "Formulation study directory on the fine mesh")->required();
+    fp->add_option("--coarse", (*fid)[1], "The same study on the coarse mesh")->required();
+    fp->add_option("--out", (*fid)[2], "Directory for fidelity.md, .csv and .png")->capture_default_str();
+    fp->add_flag("--json", *fjson, "Print JSON");
+    fp->callback([&action, fid, fjson] {
+        action = [fid, fjson] {
+            const auto r = experiments::fidelityPilot((*fid)[0], (*fid)[1], (*fid)[2]);
+            if (*fjson) {
+                std::cout << r.dump(2) << '\n';
+                return 0;
+            }
+            std::cout << r["pairs"] << " pairs steady on both meshes";
+            if (r.contains("fit"))
+                std::cout << ": M_fine = " << r["fit"]["slope"].get<double>() << " M_coarse + " << r["fit"]["intercept_kg"].get<double>()
+                          << " kg, r^2 = " << r["fit"]["r2"].get<double>() << ", ratio " << r["ratio"]["mean"].get<double>() << " +- "
+                          << r["ratio"]["std"].get<double>();
+            std::cout << "\n  verdict: " << r["verdict"].get<std::string>() << "\n  table " << r["table"].get<std::string>() << '\n';
             return 0;
         };
     });

@@ -82,3 +82,24 @@ TEST(FormulationStudy, WarmFromARunStartsEveryRunFromItsFieldsInRunsOfTheirOwn) 
     EXPECT_NE(bad.err.find("warm-from"), std::string::npos) << bad.err;
     EXPECT_FALSE(fs::exists(dir / "bad"));
 }
+
+// The multi-fidelity pilot pairs the two studies' steady runs by variant (a run unsteady on one
+// mesh, or missing from it, is left out), fits fine against coarse and says whether co-kriging
+// would earn its place; a directory without a study is refused.
+TEST(FormulationStudy, FidelityPilotPairsTheTwoMeshesRuns) {
+    const fs::path out = scratchDir("fidelity");
+    auto r = runMixload({"study", "fidelity", "--fine", MIXLOAD_TEST_DATA "/fidelity/fine", "--coarse", MIXLOAD_TEST_DATA "/fidelity/coarse",
+                         "--out", (out / "p").string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["pairs"], 9);
+    EXPECT_NEAR(j["ratio"]["mean"].get<double>(), 1.15, 0.01);
+    EXPECT_GT(j["fit"]["r2"].get<double>(), 0.99);
+    EXPECT_EQ(j["verdict"].get<std::string>().rfind("earns its place", 0), 0u) << j["verdict"];
+    EXPECT_NEAR(j["cost_ratio"].get<double>(), 1.0, 1e-12);
+    EXPECT_TRUE(fs::exists(out / "p" / "fidelity.md"));
+    r = runMixload({"study", "fidelity", "--fine", out.string(), "--coarse", MIXLOAD_TEST_DATA "/fidelity/coarse", "--out", (out / "q").string()});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_NE(r.err.find("study.json"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out / "q"));
+}

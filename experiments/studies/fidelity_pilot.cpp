@@ -1,0 +1,110 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "studies/fidelity_pilot.hpp"
+
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "common/atomic_file.hpp"
+#include "common/gnuplot.hpp"
+#include "common/input_error.hpp"
+
+namespace mixload::experiments {
+
+namespace {
+
+struct Side {
+    double m = 0, core = 0;
+};
+
+// variant -> loading and cost, for the runs with a steady verdict ("reference" for the reference).
+std::map<std::string, Side> steadyRuns(const std::filesystem::path& dir) {
+    const auto file = dir / "study.json";
+    if (!std::filesystem::is_regular_file(file)) throw InputError("study", dir.string(), "a directory with a formulation study's study.json");
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(readFile(file));
+    } catch (const std::exception& e) {
+        throw InputError("study", file.string(), std::string("valid JSON (") + e.what() + ")");
+    }
+    std::map<std::string, Side> out;
+    const auto take = [&](const std::string& name, const nlohmann::json& r) {
+        if (r.is_object() && r.value("steady", false) && r.contains("loading_kg"))
+            out[name] = {r["loading_kg"].get<double>(), r.value("core_seconds", 0.0)};
+    };
+    take("reference", j.value("reference", nlohmann::json()));
+    for (const auto& r : j.value("rows", nlohmann::json::array())) take(r.value("variant", std::string()), r);
+    return out;
+}
+
+}  // namespace
+
+nlohmann::json fidelityPilot(const std::filesystem::path& fine, const std::filesystem::path& coarse, const std::filesystem::path& out) {
+    const auto f = steadyRuns(fine), c = steadyRuns(coarse);
+    std::vector<std::string> names;
+    std::vector<double> xf, xc;
+    double coreF = 0, coreC = 0;
+    for (const auto& [name, s] : f) {
+        const auto it = c.find(name);
+        if (it == c.end()) continue;
+        names.push_back(name);
+        xf.push_back(s.m);
+        xc.push_back(it->second.m);
+        coreF += s.core, coreC += it->second.core;
+    }
+    const auto n = static_cast<double>(names.size());
+    nlohmann::json r{{"fine", fine.string()}, {"coarse", coarse.string()}, {"pairs", names.size()}};
+    nlohmann::json pairs = nlohmann::json::array();
+    for (size_t i = 0; i < names.size(); ++i) pairs.push_back({{"variant", names[i]}, {"fine_kg", xf[i]}, {"coarse_kg", xc[i]}, {"ratio", xf[i] / xc[i]}});
+    r["pairs_list"] = pairs;
+    if (names.size() >= 3) {
+        double mx = 0, my = 0;
+        for (size_t i = 0; i < names.size(); ++i) mx += xc[i] / n, my += xf[i] / n;
+        double sxx = 0, sxy = 0, syy = 0;
+        for (size_t i = 0; i < names.size(); ++i) sxx += (xc[i] - mx) * (xc[i] - mx), sxy += (xc[i] - mx) * (xf[i] - my), syy += (xf[i] - my) * (xf[i] - my);
+        const double a = sxy / sxx, b = my - a * mx, r2 = sxx > 0 && syy > 0 ? sxy * sxy / (sxx * syy) : 0;
+        double rm = 0, rs = 0;
+        for (size_t i = 0; i < names.size(); ++i) rm += xf[i] / xc[i] / n;
+        for (size_t i = 0; i < names.size(); ++i) rs += std::pow(xf[i] / xc[i] - rm, 2) / std::max(n - 1, 1.0);
+        r["fit"] = {{"slope", a}, {"intercept_kg", b}, {"r2", r2}};
+        r["ratio"] = {{"mean", rm}, {"std", std::sqrt(rs)}};
+        r["verdict"] = names.size() < 8 ? "pilot too small (fewer than 8 pairs)" : r2 >= 0.9 ? "earns its place (r^2 >= 0.9)" : "skip (r^2 < 0.9)";
+    } else {
+        r["verdict"] = "pilot too small (fewer than 8 pairs)";
+    }
+    if (coreC > 0) r["cost_ratio"] = coreF / coreC;
+
+    std::ostringstream md, csv, dat;
+    md << "Multi-fidelity pilot: `" << fine.string() << "` (fine) against `" << coarse.string() << "` (coarse), runs steady in both.\n\n"
+       << "| variant | fine M [kg] | coarse M [kg] | fine / coarse |\n|---|---|---|---|\n";
+    csv << "variant,fine_kg,coarse_kg,ratio\n";
+    for (size_t i = 0; i < names.size(); ++i) {
+        md << "| " << names[i] << " | " << formatNumber(xf[i]) << " | " << formatNumber(xc[i]) << " | " << formatNumber(xf[i] / xc[i]) << " |\n";
+        csv << names[i] << ',' << xf[i] << ',' << xc[i] << ',' << xf[i] / xc[i] << '\n';
+        dat << xc[i] << ' ' << xf[i] << '\n';
+    }
+    if (r.contains("fit"))
+        md << "\nFit: M_fine = " << formatNumber(r["fit"]["slope"].get<double>()) << " M_coarse + " << formatNumber(r["fit"]["intercept_kg"].get<double>())
+           << " kg, r² = " << formatNumber(r["fit"]["r2"].get<double>()) << "; ratio " << formatNumber(r["ratio"]["mean"].get<double>()) << " ± "
+           << formatNumber(r["ratio"]["std"].get<double>()) << ".\n";
+    md << "\nVerdict: " << r["verdict"].get<std::string>() << ".\n";
+    std::filesystem::create_directories(out);
+    writeFileAtomic(out / "fidelity.md", md.str());
+    writeFileAtomic(out / "fidelity.csv", csv.str());
+    writeFileAtomic(out / "fidelity.dat", dat.str());
+    std::ostringstream gp;
+    gp << "set terminal pngcairo size 700,600 noenhanced\nset output 'fidelity.png.tmp'\nset title 'fine against coarse mesh, " << names.size()
+       << " pairs'\nset xlabel 'M, coarse mesh [kg]'\nset ylabel 'M, fine mesh [kg]'\nset key top left\nset grid\n"
+       << "plot 'fidelity.dat' using 1:2 with points pt 7 ps 1.5 title 'steady in both'";
+    if (r.contains("fit"))
+        gp << ", " << r["fit"]["slope"].get<double>() << "*x+(" << r["fit"]["intercept_kg"].get<double>() << ") lw 2 title 'fit, r2 = "
+           << formatNumber(r["fit"]["r2"].get<double>()) << "', x dt 2 lc rgb 'gray' title 'equal'";
+    gp << "\n";
+    const auto warning = runGnuplot(out, "fidelity.gp", gp.str());
+    if (warning.empty() && std::filesystem::exists(out / "fidelity.png.tmp")) std::filesystem::rename(out / "fidelity.png.tmp", out / "fidelity.png");
+    r["table"] = (out / "fidelity.md").string();
+    r["plot"] = warning.empty() ? nlohmann::json((out / "fidelity.png").string()) : nlohmann::json();
+    return r;
+}
+
+}  // namespace mixload::experiments
