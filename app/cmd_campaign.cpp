@@ -16,6 +16,7 @@ struct CampaignCmd {
     std::string output;
     experiments::CampaignRunOptions run;
     bool json = false, adaptive = false;
+    double depositFactor = 0.5;
     std::string checkModel;
 };
 
@@ -145,6 +146,47 @@ void addCampaign(CLI::App& app, Action& action) {
     xt->add_option("--dir", o->spec.place.dir, "Where campaigns live")->capture_default_str();
     xt->add_flag("--json", o->json, "Print JSON");
     xt->callback([&action, o] { action = [o] { return printExtended(*o); }; });
+
+    auto* rp = camp->add_subcommand("replicate", "Queue finished design points again from another deposit (their pairs measure the steady test's label noise)");
+    rp->add_option("name", o->spec.place.name, "Campaign name")->required();
+    rp->add_option("--n", o->spec.n, "Number of design points to replicate (spread over the design)")->required();
+    rp->add_option("--deposit-factor", o->depositFactor, "Deposit of each replicate as a share of its point's loading")->capture_default_str();
+    rp->add_option("--dir", o->spec.place.dir, "Where campaigns live")->capture_default_str();
+    rp->add_flag("--json", o->json, "Print JSON");
+    rp->callback([&action, o] {
+        action = [o] {
+            const auto j = experiments::replicateCampaign(o->spec.place, o->spec.n, o->depositFactor);
+            if (o->json) std::cout << j.dump(2) << '\n';
+            else
+                for (const auto& r : j["replicates"])
+                    std::cout << "  point " << r["of_index"] << " (M = " << formatNumber(r["loading_kg"].get<double>()) << " kg) again from "
+                              << formatNumber(r["initial_loading_kg"].get<double>()) << " kg\n";
+            if (!o->json) std::cout << "campaign " << o->spec.place.name << ": " << j["added"] << " replicates queued (" << j["points"] << " points)\n";
+            return 0;
+        };
+    });
+
+    auto* nz = camp->add_subcommand("noise", "The finished replicate pairs and the label noise of one run they give (for surrogate fit --noise)");
+    nz->add_option("name", o->spec.place.name, "Campaign name")->required();
+    nz->add_option("--dir", o->spec.place.dir, "Where campaigns live")->capture_default_str();
+    nz->add_flag("--json", o->json, "Print JSON");
+    nz->callback([&action, o] {
+        action = [o] {
+            const auto j = experiments::campaignNoise(o->spec.place);
+            if (o->json) {
+                std::cout << j.dump(2) << '\n';
+                return 0;
+            }
+            for (const auto& p : j["pairs"])
+                std::cout << "  point " << p["index"] << ": " << formatNumber(p["loading_kg"].get<double>()) << " kg, from "
+                          << formatNumber(p["initial_loading_kg"].get<double>()) << " kg: " << formatNumber(p["replicate_kg"].get<double>())
+                          << " kg (" << formatNumber(100 * p["relative_difference"].get<double>()) << "%)\n";
+            if (j["run_noise"].is_null()) std::cout << "no finished replicate pair yet\n";
+            else std::cout << j["n"] << " pairs: one run's scatter " << formatNumber(100 * j["run_noise"].get<double>()) << "% (surrogate fit --noise "
+                           << formatNumber(j["run_noise"].get<double>()) << ")\n";
+            return 0;
+        };
+    });
 
     auto* st = camp->add_subcommand("status", "Counts of queued, running, done and failed runs");
     st->add_option("name", o->spec.place.name, "Campaign name")->required();

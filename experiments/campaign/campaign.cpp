@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <mutex>
 #include <regex>
 #include <set>
@@ -89,6 +90,8 @@ scene::MixerScene mixerSceneFor(const nlohmann::json& base, const nlohmann::json
     if (p.contains("rho")) m.rho = param(p, "rho");
     if (p.contains("feed_kg_h")) m.feedKgH = param(p, "feed_kg_h");
     if (p.contains("rpm")) m.rpm = param(p, "rpm");
+    // A replicate of a design point starts from its own deposit (campaign replicate).
+    if (p.contains("initial_loading_kg")) m.initialLoadingKg = param(p, "initial_loading_kg");
     return m.build();
 }
 
@@ -270,6 +273,101 @@ nlohmann::json extendCampaign(const CampaignPlace& o, int n, bool adaptive) {
     l->addPoints(o.name, points);
     out["added"] = points.size();
     out["points"] = runs.size() + points.size();
+    return out;
+}
+
+nlohmann::json replicateCampaign(const CampaignPlace& o, int n, double depositFactor) {
+    requireRange("n", n, 1, 1000);
+    requireRange("deposit-factor", depositFactor, 0.05, 5.0);
+    std::unique_ptr<store::Ledger> l;
+    const auto c = openCampaign(o, l);
+    if (c.scene != "mixer") throw InputError("campaign", o.name, "a mixer campaign (a replicate starts from another deposit)");
+    const auto space = parseRanges(c.rangesToml, o.name + " (ranges recorded in the ledger)");
+    const auto runs = l->runs(o.name);
+    // Candidates: finished, steady design points that are not replicates themselves.
+    std::vector<const store::LedgerRun*> done;
+    std::set<std::string> hashes;
+    for (const auto& r : runs) {
+        hashes.insert(r.params.value("scene_hash", std::string()));
+        if (r.status == "done" && r.result.value("steady", false) && r.result.contains("loading_kg") && !r.params.contains("initial_loading_kg"))
+            done.push_back(&r);
+    }
+    if (static_cast<int>(done.size()) < n)
+        throw InputError("n", std::to_string(n), "at most the " + std::to_string(done.size()) + " finished, steady design points");
+    // Spread over the design: the first finished point, then each time the one farthest from
+    // those already taken (in the unit cube).
+    const auto unitOf = [&](const store::LedgerRun& r) {
+        std::vector<double> x;
+        for (const auto& p : space.params) x.push_back(r.params.at(p.name).get<double>());
+        return space.toUnit(x);
+    };
+    std::vector<size_t> chosen{0};
+    while (static_cast<int>(chosen.size()) < n) {
+        double best = -1;
+        size_t at = 0;
+        for (size_t i = 0; i < done.size(); ++i) {
+            double nearest = 1e300;
+            for (size_t j : chosen) {
+                const auto a = unitOf(*done[i]), b = unitOf(*done[j]);
+                double d2 = 0;
+                for (size_t k = 0; k < a.size(); ++k) d2 += (a[k] - b[k]) * (a[k] - b[k]);
+                nearest = std::min(nearest, d2);
+            }
+            if (nearest > best) best = nearest, at = i;
+        }
+        chosen.push_back(at);
+    }
+    std::vector<nlohmann::json> points;
+    nlohmann::json added = nlohmann::json::array();
+    for (size_t i : chosen) {
+        auto p = done[i]->params;
+        const double m = done[i]->result["loading_kg"].get<double>();
+        p["initial_loading_kg"] = std::round(1000 * depositFactor * m) / 1000;  // grams: a deposit, not a measurement
+        p.erase("scene_hash");
+        p["scene_hash"] = sceneHashFor(c.sceneJson, p);
+        if (!hashes.insert(p["scene_hash"].get<std::string>()).second) continue;  // this replicate exists
+        added.push_back({{"of_index", done[i]->index}, {"loading_kg", m}, {"initial_loading_kg", p["initial_loading_kg"]}});
+        points.push_back(p);
+    }
+    if (!points.empty()) l->addPoints(o.name, points);
+    return {{"campaign", o.name}, {"added", points.size()}, {"replicates", added}, {"points", runs.size() + points.size()}};
+}
+
+nlohmann::json campaignNoise(const CampaignPlace& o) {
+    std::unique_ptr<store::Ledger> l;
+    openCampaign(o, l);
+    const auto runs = l->runs(o.name);
+    // A replicate matches its design point on every parameter but the deposit.
+    const auto key = [](nlohmann::json p) {
+        p.erase("initial_loading_kg");
+        p.erase("scene_hash");
+        return p.dump();
+    };
+    std::map<std::string, const store::LedgerRun*> originals;
+    for (const auto& r : runs)
+        if (!r.params.contains("initial_loading_kg")) originals[key(r.params)] = &r;
+    const auto steadyM = [](const store::LedgerRun& r) {
+        return r.status == "done" && r.result.value("steady", false) && r.result.contains("loading_kg") ? r.result["loading_kg"].get<double>() : NAN;
+    };
+    nlohmann::json pairs = nlohmann::json::array();
+    double sum2 = 0;
+    int n = 0;
+    for (const auto& r : runs) {
+        if (!r.params.contains("initial_loading_kg")) continue;
+        const auto it = originals.find(key(r.params));
+        if (it == originals.end()) continue;
+        const double a = steadyM(*it->second), b = steadyM(r);
+        if (std::isnan(a) || std::isnan(b)) continue;
+        // Relative difference of the two results about their mean: each run's own scatter is
+        // this over sqrt(2).
+        const double rel = (b - a) / (0.5 * (a + b));
+        pairs.push_back({{"index", it->second->index}, {"replicate_index", r.index}, {"loading_kg", a}, {"replicate_kg", b},
+                         {"initial_loading_kg", r.params["initial_loading_kg"]}, {"relative_difference", rel}});
+        sum2 += rel * rel;
+        ++n;
+    }
+    nlohmann::json out{{"campaign", o.name}, {"pairs", pairs}, {"n", n}};
+    out["run_noise"] = n ? nlohmann::json(std::sqrt(sum2 / n / 2)) : nlohmann::json();
     return out;
 }
 

@@ -51,6 +51,13 @@ nlohmann::json createCampaign(const CampaignSpec& spec);
 // where a kriging model of the finished runs' log quantity (mixer: loading_kg of steady runs;
 // collapse: runout_star) is least sure, given the points already queued (doe/adaptive).
 nlohmann::json extendCampaign(const CampaignPlace& place, int n, bool adaptive = false);
+// Mixer campaigns: n finished, steady design points spread over the design (farthest-point), each
+// queued again from a deposit of depositFactor times its loading. Their two results measure the
+// label noise of the steady test (campaignNoise). Throws InputError with too few such points.
+nlohmann::json replicateCampaign(const CampaignPlace& place, int n, double depositFactor);
+// The finished replicate pairs, their relative differences, and one run's scatter estimated from
+// them: sqrt(mean(rel^2) / 2) (null without a pair); what `surrogate fit --noise` takes.
+nlohmann::json campaignNoise(const CampaignPlace& place);
 nlohmann::json campaignStatus(const CampaignPlace& place);
 nlohmann::json exportCampaignCsv(const CampaignPlace& place, const std::filesystem::path& csv);
 // Runs queued points, jobs at a time, until none is left or maxHours; counts in the summary.

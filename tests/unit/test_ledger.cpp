@@ -3,13 +3,18 @@
 // the middle of its transactions.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <csignal>
+#include <map>
 #include <filesystem>
 #include <set>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include "store/ledger.hpp"
+#include "campaign/campaign.hpp"
+#include "common/atomic_file.hpp"
+#include "common/input_error.hpp"
 
 using namespace mixload::store;
 namespace fs = std::filesystem;
@@ -143,4 +148,59 @@ TEST(Ledger, SurvivesSigkillDuringWrites) {
     EXPECT_EQ(l.requeueRunning("c"), running);
     for (const auto& r : l.runs("c"))
         if (r.status == "queued") EXPECT_EQ(r.attempts, 0) << "an interrupted attempt was counted";
+}
+
+// Replicates of a mixer campaign's finished points, and the label noise their pairs give. The
+// results are written into the ledger by hand: this checks the bookkeeping (which points, which
+// deposits, which pairs), not a solver.
+TEST(Ledger, ReplicatesAndTheirNoise) {
+    namespace ex = mixload::experiments;
+    const fs::path dir = fs::temp_directory_path() / ("mixload-replicates-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const fs::path ranges = dir / "r.toml";
+    mixload::writeFileAtomic(ranges, "scene = \"mixer\"\n[rpm]\nmin = 39\nmax = 254\nunit = \"rpm\"\n[feed_kg_h]\nmin = 5\nmax = 45\nunit = \"kg/h\"\n");
+    ex::CampaignSpec spec;
+    spec.place = {"rep", dir.string()};
+    spec.ranges = ranges.string();
+    spec.design = "sobol";
+    spec.n = 6;
+    spec.scene = "gcm250-v2";
+    ex::createCampaign(spec);
+    EXPECT_THROW(ex::replicateCampaign(spec.place, 2, 0.5), mixload::InputError);  // nothing finished yet
+    {
+        Ledger l(spec.place.ledger());
+        for (int i = 0; i < 4; ++i) {
+            const auto r = l.claimNext("rep", 2, false);
+            ASSERT_TRUE(r);
+            l.markDone(r->id, {{"loading_kg", 0.1 * (r->index + 1)}, {"steady", true}}, 1, 1, "/x");
+        }
+    }
+    const auto j = ex::replicateCampaign(spec.place, 2, 0.5);
+    ASSERT_EQ(j["added"], 2);
+    EXPECT_EQ(j["points"], 8);
+    std::set<int> of;
+    for (const auto& r : j["replicates"]) {
+        EXPECT_NEAR(r["initial_loading_kg"].get<double>(), 0.5 * r["loading_kg"].get<double>(), 0.0005);
+        of.insert(r["of_index"].get<int>());
+    }
+    EXPECT_EQ(of.size(), 2u);
+    // The same call again adds nothing new for points already replicated from that deposit.
+    EXPECT_EQ(ex::replicateCampaign(spec.place, 2, 0.5)["added"], 0);
+    EXPECT_TRUE(ex::campaignNoise(spec.place)["run_noise"].is_null());
+    {
+        // The replicates finish 2% above their points' loadings.
+        Ledger l(spec.place.ledger());
+        std::map<std::string, double> m;
+        for (const auto& r : l.runs("rep"))
+            if (r.status == "done") m[r.params["rpm"].dump()] = r.result["loading_kg"].get<double>();
+        while (auto r = l.claimNext("rep", 2, false)) {
+            if (!r->params.contains("initial_loading_kg")) continue;
+            l.markDone(r->id, {{"loading_kg", 1.02 * m.at(r->params["rpm"].dump())}, {"steady", true}}, 1, 1, "/x");
+        }
+    }
+    const auto noise = ex::campaignNoise(spec.place);
+    EXPECT_EQ(noise["n"], 2);
+    EXPECT_NEAR(noise["run_noise"].get<double>(), 0.02 / 1.01 / std::sqrt(2.0), 1e-9);
+    fs::remove_all(dir);
 }
