@@ -211,6 +211,25 @@ store::CampaignInfo openCampaign(const CampaignPlace& o, std::unique_ptr<store::
     return *c;
 }
 
+namespace {
+
+// A run's point in the design's unit cube.
+std::vector<double> unitOf(const ParameterSpace& space, const store::LedgerRun& r) {
+    std::vector<double> x;
+    for (const auto& p : space.params) x.push_back(r.params.at(p.name).get<double>());
+    return space.toUnit(x);
+}
+
+}  // namespace
+
+std::optional<double> runQuantity(const store::LedgerRun& r, const std::string& scene) {
+    if (r.status != "done" || !r.result.is_object()) return std::nullopt;
+    const bool mixer = scene == "mixer";
+    if (mixer && !r.result.value("steady", false)) return std::nullopt;
+    const auto q = r.result.value(mixer ? "loading_kg" : "runout_star", nlohmann::json());
+    return q.is_number() ? std::optional<double>(q.get<double>()) : std::nullopt;
+}
+
 // Adds n points without repeating any: the Sobol sequence continues where the campaign stopped;
 // a Latin hypercube is augmented into the strata its points leave free; adaptive points go where
 // a kriging model of the finished runs is least sure.
@@ -220,13 +239,8 @@ nlohmann::json extendCampaign(const CampaignPlace& o, int n, bool adaptive) {
     const auto c = openCampaign(o, l);
     const auto space = parseRanges(c.rangesToml, o.name + " (ranges recorded in the ledger)");
     const auto runs = l->runs(o.name);
-    const auto unitOf = [&](const store::LedgerRun& r) {
-        std::vector<double> x;
-        for (const auto& p : space.params) x.push_back(r.params.at(p.name).get<double>());
-        return space.toUnit(x);
-    };
     Design old;
-    for (const auto& r : runs) old.push_back(unitOf(r));
+    for (const auto& r : runs) old.push_back(unitOf(space, r));
     const int k = static_cast<int>(space.params.size());
     nlohmann::json out{{"campaign", o.name}};
     Design unit;
@@ -234,17 +248,16 @@ nlohmann::json extendCampaign(const CampaignPlace& o, int n, bool adaptive) {
         // The model learns the log of the campaign's quantity (the loading spans decades) from its
         // finished runs (a mixer run counts only with a steady verdict); queued and running points
         // are conditioned on, failed ones left out.
-        const bool mixer = space.scene == "mixer";
-        const char* quantity = mixer ? "loading_kg" : "runout_star";
+        const char* quantity = space.scene == "mixer" ? "loading_kg" : "runout_star";
         Design done, pending;
         std::vector<double> y;
-        for (const auto& r : runs) {
-            if (r.status == "queued" || r.status == "running") pending.push_back(unitOf(r));
-            if (r.status != "done" || !r.result.is_object()) continue;
-            const auto q = r.result.value(quantity, nlohmann::json());
-            if (!q.is_number() || !(q.get<double>() > 0) || (mixer && !r.result.value("steady", false))) continue;
-            done.push_back(unitOf(r));
-            y.push_back(std::log(q.get<double>()));
+        for (size_t i = 0; i < runs.size(); ++i) {
+            const auto& r = runs[i];
+            if (r.status == "queued" || r.status == "running") pending.push_back(old[i]);
+            const auto q = runQuantity(r, space.scene);
+            if (!q || !(*q > 0)) continue;
+            done.push_back(old[i]);
+            y.push_back(std::log(*q));
         }
         // Candidates: a Sobol set of 256 points per dimension (at least 1024), far along the
         // sequence so that it does not coincide with a Sobol design's own points.
@@ -286,21 +299,21 @@ nlohmann::json replicateCampaign(const CampaignPlace& o, int n, double depositFa
     const auto runs = l->runs(o.name);
     // Candidates: finished, steady design points that are not replicates themselves.
     std::vector<const store::LedgerRun*> done;
+    std::vector<double> loading;
+    Design units;
     std::set<std::string> hashes;
     for (const auto& r : runs) {
         hashes.insert(r.params.value("scene_hash", std::string()));
-        if (r.status == "done" && r.result.value("steady", false) && r.result.contains("loading_kg") && !r.params.contains("initial_loading_kg"))
-            done.push_back(&r);
+        const auto m = runQuantity(r, c.scene);
+        if (!m || r.params.contains("initial_loading_kg")) continue;
+        done.push_back(&r);
+        loading.push_back(*m);
+        units.push_back(unitOf(space, r));
     }
     if (static_cast<int>(done.size()) < n)
         throw InputError("n", std::to_string(n), "at most the " + std::to_string(done.size()) + " finished, steady design points");
     // Spread over the design: the first finished point, then each time the one farthest from
     // those already taken (in the unit cube).
-    const auto unitOf = [&](const store::LedgerRun& r) {
-        std::vector<double> x;
-        for (const auto& p : space.params) x.push_back(r.params.at(p.name).get<double>());
-        return space.toUnit(x);
-    };
     std::vector<size_t> chosen{0};
     while (static_cast<int>(chosen.size()) < n) {
         double best = -1;
@@ -308,7 +321,7 @@ nlohmann::json replicateCampaign(const CampaignPlace& o, int n, double depositFa
         for (size_t i = 0; i < done.size(); ++i) {
             double nearest = 1e300;
             for (size_t j : chosen) {
-                const auto a = unitOf(*done[i]), b = unitOf(*done[j]);
+                const auto &a = units[i], &b = units[j];
                 double d2 = 0;
                 for (size_t k = 0; k < a.size(); ++k) d2 += (a[k] - b[k]) * (a[k] - b[k]);
                 nearest = std::min(nearest, d2);
@@ -321,7 +334,7 @@ nlohmann::json replicateCampaign(const CampaignPlace& o, int n, double depositFa
     nlohmann::json added = nlohmann::json::array();
     for (size_t i : chosen) {
         auto p = done[i]->params;
-        const double m = done[i]->result["loading_kg"].get<double>();
+        const double m = loading[i];
         p["initial_loading_kg"] = std::round(1000 * depositFactor * m) / 1000;  // grams: a deposit, not a measurement
         p.erase("scene_hash");
         p["scene_hash"] = sceneHashFor(c.sceneJson, p);
@@ -335,7 +348,7 @@ nlohmann::json replicateCampaign(const CampaignPlace& o, int n, double depositFa
 
 nlohmann::json campaignNoise(const CampaignPlace& o) {
     std::unique_ptr<store::Ledger> l;
-    openCampaign(o, l);
+    const auto c = openCampaign(o, l);
     const auto runs = l->runs(o.name);
     // A replicate matches its design point on every parameter but the deposit.
     const auto key = [](nlohmann::json p) {
@@ -346,9 +359,6 @@ nlohmann::json campaignNoise(const CampaignPlace& o) {
     std::map<std::string, const store::LedgerRun*> originals;
     for (const auto& r : runs)
         if (!r.params.contains("initial_loading_kg")) originals[key(r.params)] = &r;
-    const auto steadyM = [](const store::LedgerRun& r) {
-        return r.status == "done" && r.result.value("steady", false) && r.result.contains("loading_kg") ? r.result["loading_kg"].get<double>() : NAN;
-    };
     nlohmann::json pairs = nlohmann::json::array();
     double sum2 = 0;
     int n = 0;
@@ -356,8 +366,9 @@ nlohmann::json campaignNoise(const CampaignPlace& o) {
         if (!r.params.contains("initial_loading_kg")) continue;
         const auto it = originals.find(key(r.params));
         if (it == originals.end()) continue;
-        const double a = steadyM(*it->second), b = steadyM(r);
-        if (std::isnan(a) || std::isnan(b)) continue;
+        const auto ma = runQuantity(*it->second, c.scene), mb = runQuantity(r, c.scene);
+        if (!ma || !mb) continue;
+        const double a = *ma, b = *mb;
         // Relative difference of the two results about their mean: each run's own scatter is
         // this over sqrt(2).
         const double rel = (b - a) / (0.5 * (a + b));

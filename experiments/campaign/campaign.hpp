@@ -63,6 +63,10 @@ nlohmann::json exportCampaignCsv(const CampaignPlace& place, const std::filesyst
 // Runs queued points, jobs at a time, until none is left or maxHours; counts in the summary.
 nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions& options);
 
+// What a finished run of the campaign measured: a mixer run's loading [kg] when its verdict is
+// steady, a collapse run's runout L*f; nothing for a run that is not done or has no verdict.
+std::optional<double> runQuantity(const store::LedgerRun& run, const std::string& scene);
+
 // The campaign recorded in the place's ledger; throws InputError if there is none.
 store::CampaignInfo openCampaign(const CampaignPlace& place, std::unique_ptr<store::Ledger>& ledger);
 // The scene of one design point of a campaign (its base with the point's parameters), validated.

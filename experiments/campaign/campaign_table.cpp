@@ -17,7 +17,8 @@ surrogates::Table campaignTable(const std::string& name, const std::string& dir,
                   {"campaign_mixload_version", c.mixloadVersion}, {"campaign_git_commit", c.gitCommit}};
     surrogates::Table t;
     for (const auto& r : l->runs(name)) {
-        if (r.status != "done" || !r.result.value("steady", false) || !r.result.contains("loading_kg")) {
+        const auto m = runQuantity(r, c.scene);
+        if (!m) {
             ++t.skipped;
             continue;
         }
@@ -27,7 +28,7 @@ surrogates::Table campaignTable(const std::string& name, const std::string& dir,
         row.id = r.params.value("scene_hash", std::to_string(r.index));
         row.x = {s.material.muS, s.material.muD, s.material.I0, s.material.grainDiameter,
                  s.material.bulkDensity(), s.feedKgH, s.rpm};
-        row.m = r.result["loading_kg"].get<double>();
+        row.m = *m;
         t.rows.push_back(row);
     }
     return t;
