@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/stats.hpp"
+
 namespace mixload::surrogates {
 
 struct ErrorStats {
@@ -45,8 +47,7 @@ struct ErrorStats {
             for (std::size_t i = 0; i < n; ++i) s += errors[gen() % n];
             m = s / static_cast<double>(n);
         }
-        std::sort(means.begin(), means.end());
-        return nlohmann::json::array({means[kResamples / 20], means[kResamples - 1 - kResamples / 20]});
+        return nlohmann::json::array({percentile(means, 0.05), percentile(means, 0.95)});
     }
     nlohmann::json coverage() const {
         return withInterval ? nlohmann::json(static_cast<double>(covered) / static_cast<double>(withInterval))

@@ -11,6 +11,7 @@
 
 #include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
+#include "common/stats.hpp"
 #include "error_stats.hpp"
 
 namespace mixload::surrogates {
@@ -303,15 +304,10 @@ Difference Surrogate::predictDifference(const Point& a, const Point& b) const {
         dep[static_cast<size_t>(i)] = cb * back(tf_.logOutput, ybCorr) - ma;
         ind[static_cast<size_t>(i)] = cb * back(tf_.logOutput, ybInd) - ma;
     }
-    const auto quantile = [](std::vector<double>& v, double p) {
-        const auto k = static_cast<size_t>(p * static_cast<double>(v.size() - 1));
-        std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-        return v[k];
-    };
-    d.lo = quantile(dep, 0.025);
-    d.hi = quantile(dep, 0.975);
-    d.loIndependent = quantile(ind, 0.025);
-    d.hiIndependent = quantile(ind, 0.975);
+    d.lo = percentile(dep, 0.025);
+    d.hi = percentile(dep, 0.975);
+    d.loIndependent = percentile(ind, 0.025);
+    d.hiIndependent = percentile(ind, 0.975);
     return d;
 }
 

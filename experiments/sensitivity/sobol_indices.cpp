@@ -6,6 +6,7 @@
 #include <string>
 
 #include "common/input_error.hpp"
+#include "common/stats.hpp"
 #include "doe/designs.hpp"
 
 namespace mixload::experiments {
@@ -36,12 +37,6 @@ Estimate estimate(const std::vector<double>& fA, const std::vector<double>& fB, 
         e.total.push_back(total / (2 * m) / e.variance);
     }
     return e;
-}
-
-double percentile(std::vector<double> v, double p) {
-    const auto k = static_cast<size_t>(p * static_cast<double>(v.size() - 1) + 0.5);
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-    return v[k];
 }
 
 }  // namespace
