@@ -80,17 +80,17 @@ nlohmann::json writeLearningCurve(const std::vector<CurvePoint>& curve, const nl
     writeFileAtomic(dir / "curve.csv", csv.str());
     writeFileAtomic(dir / "curve.dat", dat.str());
     std::ostringstream gp;
-    gp << "set terminal pngcairo size 800,520 noenhanced\nset output 'curve.png.tmp'\nset logscale xy\nset title 'Learning curve: " << label
+    gp << "set logscale xy\nset title 'Learning curve: " << label
        << "'\nset xlabel 'training runs'\nset ylabel 'mean relative error'\nset key top right\nset grid\nset xrange [" << curve.front().n / 1.5
        << ":" << curve.back().n * 1.5 << "]\n"
        << "plot 'curve.dat' using 1:2:3:4 with yerrorlines lw 2 title 'hold-out (90% bootstrap)', '' using 1:5 with linespoints dt 2 title 'leave-one-out'";
     if (!law.is_null())
         gp << ", " << law["coefficient"].get<double>() << "*x**(-" << law["exponent"].get<double>() << ") dt 2 lw 2 lc rgb 'dark-gray' title 'power law'";
     gp << "\n";
-    const auto warning = runGnuplot(dir, "curve.gp", gp.str());
-    if (warning.empty() && std::filesystem::exists(dir / "curve.png.tmp")) std::filesystem::rename(dir / "curve.png.tmp", dir / "curve.png");
+    std::string warning;
+    const auto png = renderPng(dir, "curve", "pngcairo size 800,520 noenhanced", gp.str(), warning);
     return {{"table", (dir / "curve.md").string()},
-            {"plot", warning.empty() ? nlohmann::json((dir / "curve.png").string()) : nlohmann::json()},
+            {"plot", png ? nlohmann::json(png->string()) : nlohmann::json()},
             {"plot_warning", warning}};
 }
 

@@ -82,14 +82,12 @@ nlohmann::json surrogateSensitivity(const surrogates::Surrogate& model, const Pa
     writeFileAtomic(outDir / "sensitivity.csv", csv.str());
     writeFileAtomic(outDir / "sensitivity.dat", dat.str());
     const std::string script =
-        "set terminal pngcairo size 900,500\nset output 'sensitivity.png.tmp'\n"
         "set title 'Sobol indices of M (" + model.sourceLabel() + ")' noenhanced\n"
         "set style data histogram\nset style histogram errorbars gap 2 lw 1\nset style fill solid 0.6 border -1\n"
         "set yrange [0:1.05]\nset ylabel 'share of the variance of M'\nset xtics noenhanced\nset key top right\n"
         "plot 'sensitivity.dat' using 3:4:5:xtic(2) title 'first-order S', '' using 6:7:8 title 'total S_T'\n";
-    auto warning = runGnuplot(outDir, "sensitivity.gp", script);
-    if (warning.empty() && std::filesystem::exists(outDir / "sensitivity.png.tmp"))
-        std::filesystem::rename(outDir / "sensitivity.png.tmp", outDir / "sensitivity.png");
+    std::string warning;
+    const auto png = renderPng(outDir, "sensitivity", "pngcairo size 900,500", script, warning);
     nlohmann::json fixedJson = nlohmann::json::object();
     for (size_t k = 0; k < surrogates::kInputs; ++k) fixedJson[surrogates::kInputSpecs[k].name] = fixed[k];
     return {{"indices", rows},
@@ -102,7 +100,7 @@ nlohmann::json surrogateSensitivity(const surrogates::Surrogate& model, const Pa
             {"outside_training_box", static_cast<double>(outside) / static_cast<double>(std::max(calls, 1L))},
             {"model_source", model.sourceLabel()},
             {"table", (outDir / "sensitivity.md").string()},
-            {"plot", warning.empty() ? nlohmann::json((outDir / "sensitivity.png").string()) : nlohmann::json()},
+            {"plot", png ? nlohmann::json(png->string()) : nlohmann::json()},
             {"plot_warning", warning}};
 }
 

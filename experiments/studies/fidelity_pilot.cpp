@@ -93,17 +93,17 @@ nlohmann::json fidelityPilot(const std::filesystem::path& fine, const std::files
     writeFileAtomic(out / "fidelity.csv", csv.str());
     writeFileAtomic(out / "fidelity.dat", dat.str());
     std::ostringstream gp;
-    gp << "set terminal pngcairo size 700,600 noenhanced\nset output 'fidelity.png.tmp'\nset title 'fine against coarse mesh, " << names.size()
+    gp << "set title 'fine against coarse mesh, " << names.size()
        << " pairs'\nset xlabel 'M, coarse mesh [kg]'\nset ylabel 'M, fine mesh [kg]'\nset key top left\nset grid\n"
        << "plot 'fidelity.dat' using 1:2 with points pt 7 ps 1.5 title 'steady in both'";
     if (r.contains("fit"))
         gp << ", " << r["fit"]["slope"].get<double>() << "*x+(" << r["fit"]["intercept_kg"].get<double>() << ") lw 2 title 'fit, r2 = "
            << formatNumber(r["fit"]["r2"].get<double>()) << "', x dt 2 lc rgb 'gray' title 'equal'";
     gp << "\n";
-    const auto warning = runGnuplot(out, "fidelity.gp", gp.str());
-    if (warning.empty() && std::filesystem::exists(out / "fidelity.png.tmp")) std::filesystem::rename(out / "fidelity.png.tmp", out / "fidelity.png");
+    std::string warning;
+    const auto png = renderPng(out, "fidelity", "pngcairo size 700,600 noenhanced", gp.str(), warning);
     r["table"] = (out / "fidelity.md").string();
-    r["plot"] = warning.empty() ? nlohmann::json((out / "fidelity.png").string()) : nlohmann::json();
+    r["plot"] = png ? nlohmann::json(png->string()) : nlohmann::json();
     return r;
 }
 

@@ -134,16 +134,16 @@ nlohmann::json whatifReport(const surrogates::Surrogate& m, const std::string& m
               << " rpm', 'report.dat'" << idx << " using 1:6:7:8 with yerrorlines lc " << i + 1 << " dt 2 notitle";
         dPlot << sep << "'report.dat'" << idx << " using 1:9:10:11 with yerrorlines lc " << i + 1 << " title '" << formatNumber(rpms[i]) << " rpm'";
     }
-    gp << "set terminal pngcairo size 1200,500 noenhanced\nset output 'report.png.tmp'\nset multiplot layout 1,2 title 'What-if from "
+    gp << "set multiplot layout 1,2 title 'What-if from "
        << m.sourceLabel() << "'\nset xlabel 'feed [kg/h]'\nset offsets graph 0.03, graph 0.03, 0, 0\nset key top left\nset ylabel 'M [kg]'\n"
        << "set title 'M: base (solid) and new (dashed), 95% intervals'\nplot " << mPlot.str() << "\n"
        << "set ylabel 'dM [kg]'\nset title 'dM = M(new) - M(base), 95% interval'\nset xzeroaxis\nplot " << dPlot.str() << "\nunset multiplot\n";
-    const auto warning = runGnuplot(dir, "report.gp", gp.str());
-    if (warning.empty() && std::filesystem::exists(dir / "report.png.tmp")) std::filesystem::rename(dir / "report.png.tmp", dir / "report.png");
+    std::string warning;
+    const auto png = renderPng(dir, "report", "pngcairo size 1200,500 noenhanced", gp.str(), warning);
     return {{"points", points},
             {"table", (dir / "report.md").string()},
             {"csv", (dir / "report.csv").string()},
-            {"plot", warning.empty() ? nlohmann::json((dir / "report.png").string()) : nlohmann::json()},
+            {"plot", png ? nlohmann::json(png->string()) : nlohmann::json()},
             {"plot_warning", warning}};
 }
 
