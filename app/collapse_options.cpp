@@ -18,6 +18,9 @@ void CollapseOptions::add(CLI::App* cmd) {
                     "standard (eta = mu p / gammaDot) | paper (eta = mu p / (sqrt2 gammaDot))")
         ->capture_default_str();
     cmd->add_option("--eta-max", etaMax, "Viscosity cap [Pa s] (default: Rauter, rhoS/10 sqrt(g Hi^3))");
+    cmd->add_option("--cap-h-ratio", capHeightRatio,
+                    "Rauter's cap with H = this x Hi (a taller H: a stiffer cap, less creep of squat columns)")
+        ->capture_default_str();
     cmd->add_option("--rest-fraction", restFraction,
                     "At rest when kinetic energy < this x its peak for 0.5 t*")
         ->capture_default_str();

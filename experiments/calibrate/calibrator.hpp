@@ -5,6 +5,7 @@
 // running it again.
 #pragma once
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,7 +15,18 @@ struct CalibrationBound {
     std::string key;
     double lo = 0, hi = 1;
     double start = 0.5;  // first point, inside [lo, hi]
+    // Searched in log(x): for a parameter spanning decades (a viscosity cap), equal steps in the
+    // search are equal factors, not equal increments. Needs lo > 0.
+    bool log = false;
 };
+
+// "TABLE.KEY=LO:HI[:START][:log]" (or "KEY=..." when dotted is false); start: the middle (the
+// geometric middle for log). Throws InputError naming the key.
+CalibrationBound parseCalibrationParam(const std::string& text, bool dotted = true);
+
+// Shared by the fits' text parsers: "a:b:c" -> {a, b, c}; a finite number or InputError(field, whole).
+std::vector<std::string> splitColons(const std::string& s);
+double parseFieldNumber(const std::string& field, const std::string& text, const std::string& whole);
 
 struct CalibrationOptions {
     int maxEvals = 12;

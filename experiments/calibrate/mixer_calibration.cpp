@@ -9,8 +9,7 @@
 #include <iostream>
 #include <sstream>
 
-#include "campaign/driver_lock.hpp"
-#include "store/ledger.hpp"
+#include "calibrate/calibration_runs.hpp"
 #include "common/atomic_file.hpp"
 #include "common/clock.hpp"
 #include "common/gnuplot.hpp"
@@ -24,33 +23,8 @@ namespace mixload::experiments {
 
 namespace fs = std::filesystem;
 
-using store::CampaignInfo;
-using store::Ledger;
-using store::LedgerRun;
-using store::runQois;
 
 namespace {
-
-std::vector<std::string> splitColons(const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    for (std::string part; std::getline(ss, part, ':');) out.push_back(part);
-    return out;
-}
-
-double number(const std::string& field, const std::string& text, const std::string& whole) {
-    const auto v = parseNumber(text);
-    if (!v || !std::isfinite(*v)) throw InputError(field, whole, "numbers separated by ':'");
-    return *v;
-}
-
-// v as the nearest number with that many significant digits prints: a scene built from it, and its
-// hash, do not depend on how the arithmetic before it rounded (0.14 + 0.025 against 0.14 + 0.25 * 0.1).
-double roundSignificant(double v, int digits) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%.*g", digits, v);
-    return std::strtod(b, nullptr);
-}
 
 double maxAbs(const std::vector<double>& v) {
     double m = 0;
@@ -66,14 +40,6 @@ scene::MixerScene sceneAt(const MixerCalibration& c, const scene::SceneKeys& key
     s.feedKgH = t.feedKgH;
     s.validate();
     return s;
-}
-
-// Four significant digits: what a report reader compares.
-std::string sig4(double v) {
-    std::ostringstream os;
-    os.precision(4);
-    os << v;
-    return os.str();
 }
 
 std::string targetLabel(const LoadingTarget& t) {
@@ -99,34 +65,7 @@ struct Evaluation {
 
 class Driver {
 public:
-    explicit Driver(const MixerCalibration& c)
-        : c_(c), home_(c.dir / c.name), lock_(home_, "calibrate mixer --name " + c.name), ledger_(home_ / "ledger.sqlite") {
-        const nlohmann::json spec = specOf(c);
-        if (const auto stored = ledger_.campaign(c.name)) {
-            if (stored->design != "calibration" || nlohmann::json::parse(stored->rangesToml) != spec)
-                throw InputError("name", c.name,
-                                 "a new name, or the same parameters, targets and base scene: " +
-                                     (home_ / "ledger.sqlite").string() + " holds another calibration");
-        } else {
-            CampaignInfo info;
-            const auto base = c.sceneFor({});
-            info.name = c.name;
-            info.scene = "mixer";
-            info.sceneHash = base.hash();
-            info.sceneJson = base.toJson();
-            info.design = "calibration";
-            info.method = base.method;
-            info.mesh = base.meshLabel();
-            info.rangesToml = spec.dump();
-            info.mixloadVersion = kVersion;
-            info.gitCommit = kGitCommit;
-            ledger_.createCampaign(info, {});
-        }
-        // A driver killed mid-run left its row running: take it up again (its run directory
-        // resumes from its last written time).
-        ledger_.requeueRunning(c.name);
-        deadline_ = deadlineAfterHours(c.maxHours);
-    }
+    explicit Driver(const MixerCalibration& c) : c_(c), runs_(c.dir, c.name, "calibrate mixer --name " + c.name, baseInfo(c), specOf(c), c.maxHours) {}
 
     std::vector<double> residuals(const std::vector<double>& x) {
         Evaluation e;
@@ -151,7 +90,17 @@ public:
                     s.validate();
                 }
             }
-            nlohmann::json run = runOnce(s, e.keys, t);
+            nlohmann::json run = runs_.get(
+                s.hash(), {{"keys", e.keys}, {"rpm", t.rpm}, {"feed_kg_h", t.feedKgH}}, targetLabel(t), "mixer", c_.np,
+                [&](const fs::path& out) {
+                    run::MixerJob job;
+                    job.scene = s;
+                    job.np = c_.np;
+                    job.progress = c_.progress;
+                    job.deadline = runs_.deadline();
+                    job.out = out;
+                    return run::runMixer(job);
+                });
             run["deposit_kg"] = s.initialLoadingKg;
             const double m = run.at("loading_kg").get<double>();
             if (!run.value("steady", false) && !c_.allowUnsteady)
@@ -175,9 +124,9 @@ public:
                          {"status", status},
                          {"stop", t.stop},
                          {"evaluations", evals},
-                         {"runs_new", newRuns_},
-                         {"runs_reused", reused_},
-                         {"ledger", (home_ / "ledger.sqlite").string()},
+                         {"runs_new", runs_.newRuns()},
+                         {"runs_reused", runs_.reusedRuns()},
+                         {"ledger", runs_.ledgerFile().string()},
                          {"spec", specOf(c_)},
                          {"mixload_version", kVersion},
                          {"git_commit", kGitCommit}};
@@ -191,70 +140,24 @@ public:
     void writeReport(const nlohmann::json& j) const;
 
 private:
-    nlohmann::json runOnce(const scene::MixerScene& s, const scene::SceneKeys& keys, const LoadingTarget& t) {
-        const std::string hash = s.hash();
-        const auto find = [&] {
-            std::optional<LedgerRun> row;
-            for (auto& r : ledger_.runs(c_.name))
-                if (r.params.value("scene_hash", "") == hash) row = r;
-            return row;
-        };
-        std::optional<LedgerRun> row = find();
-        if (row && row->status == "done") {
-            ++reused_;
-            return withRunDir(row->result, row->runDir, true);
-        }
-        if (row && row->status == "failed")
-            throw run::RunError("calibration " + c_.name + ": the run at " + targetLabel(t) + " failed twice (" +
-                                row->error + "); see " + row->runDir);
-        if (!row) {
-            ledger_.addPoints(c_.name, {{{"keys", keys}, {"rpm", t.rpm}, {"feed_kg_h", t.feedKgH}, {"scene_hash", hash}}});
-            row = find();
-        }
-        // This run and no other: a queued row may be one an earlier fit asked for and this one
-        // does not (a fit whose algorithm changed); it stays queued, harmless.
-        const auto claimed = ledger_.claimNext(c_.name, 2, false, row->id);
-        if (!claimed)
-            throw std::runtime_error("calibration " + c_.name + ": run " + hash +
-                                     " is taken (another driver on the same calibration?)");
-        run::MixerJob job;
-        job.scene = s;
-        job.np = c_.np;
-        job.progress = c_.progress;
-        job.deadline = deadline_;
-        job.out = home_ / "runs" / (std::to_string(claimed->index) + "-" + hash);
-        try {
-            const nlohmann::json res = run::runMixer(job);
-            ledger_.markDone(claimed->id, runQois("mixer", res), res.value("wall_seconds", 0.0),
-                             res.value("core_seconds", res.value("wall_seconds", 0.0) * c_.np), job.out.string());
-            ++newRuns_;
-            return withRunDir(runQois("mixer", res), job.out.string(), false);
-        } catch (const DeadlineReached&) {
-            ledger_.release(claimed->id);
-            throw;
-        } catch (const std::exception& e) {
-            ledger_.markFailed(claimed->id, e.what(), claimed->attempts >= 2);
-            throw;
-        }
-    }
-
-    static nlohmann::json withRunDir(nlohmann::json q, const std::string& dir, bool reused) {
-        q["run_dir"] = dir;
-        q["reused"] = reused;
-        return q;
+    static store::CampaignInfo baseInfo(const MixerCalibration& c) {
+        store::CampaignInfo info;
+        const auto base = c.sceneFor({});
+        info.scene = "mixer";
+        info.sceneHash = base.hash();
+        info.sceneJson = base.toJson();
+        info.method = base.method;
+        info.mesh = base.meshLabel();
+        return info;
     }
 
     const MixerCalibration& c_;
-    fs::path home_;
-    DriverLock lock_;  // before the ledger: requeueRunning must not take a live driver's row
-    Ledger ledger_;
-    std::optional<std::chrono::steady_clock::time_point> deadline_;
+    CalibrationRuns runs_;
     std::vector<Evaluation> evals_;
-    int newRuns_ = 0, reused_ = 0;
 };
 
 void Driver::writeReport(const nlohmann::json& j) const {
-    const fs::path dir = home_ / "report";
+    const fs::path dir = runs_.home() / "report";
     fs::create_directories(dir);
     std::ostringstream csv, md;
     csv << "eval";
@@ -363,25 +266,11 @@ std::optional<double> depositFor(const std::vector<std::vector<double>>& xs, con
     return roundSignificant(m, 3);
 }
 
-CalibrationBound parseCalibrationParam(const std::string& text) {
-    const auto eq = text.find('=');
-    const std::string key = text.substr(0, eq);
-    if (eq == std::string::npos || key.find('.') == std::string::npos)
-        throw InputError("param", text, "TABLE.KEY=LO:HI[:START], e.g. weir.chord_angle_deg=20:88");
-    const auto parts = splitColons(text.substr(eq + 1));
-    if (parts.size() < 2 || parts.size() > 3) throw InputError("param " + key, text.substr(eq + 1), "LO:HI[:START]");
-    CalibrationBound b{key, number("param " + key, parts[0], text), number("param " + key, parts[1], text), 0};
-    if (!(b.hi > b.lo)) throw InputError("param " + key, text.substr(eq + 1), "LO < HI");
-    b.start = parts.size() == 3 ? number("param " + key, parts[2], text) : 0.5 * (b.lo + b.hi);
-    requireRange("param " + key + " start", b.start, b.lo, b.hi);
-    return b;
-}
-
 LoadingTarget parseLoadingTarget(const std::string& text) {
     const auto parts = splitColons(text);
     if (parts.size() < 3 || parts.size() > 4) throw InputError("target", text, "RPM:FEED_KG_H:LOADING_KG[:TOL]");
-    LoadingTarget t{number("target", parts[0], text), number("target", parts[1], text),
-                    number("target", parts[2], text), parts.size() == 4 ? number("target", parts[3], text) : 0.12};
+    const auto num = [&](size_t i) { return parseFieldNumber("target", parts[i], text); };
+    LoadingTarget t{num(0), num(1), num(2), parts.size() == 4 ? num(3) : 0.12};
     requireRange("target rpm", t.rpm, 0.0, 2000.0, false, true);
     requireRange("target feed", t.feedKgH, 0.0, 1000.0, false, true);
     requireRange("target loading", t.loadingKg, 0.0, 1e4, false, true);
@@ -413,27 +302,15 @@ void validateCalibration(const MixerCalibration& c) {
 nlohmann::json runMixerCalibration(const MixerCalibration& c) {
     validateCalibration(c);
     Driver d(c);
-    CalibrationTrace last;
-    const auto onEval = [&](const CalibrationTrace& t) {
-        last = t;
-        d.writeReport(d.report(t, "in-progress"));
-        if (c.progress) {
-            std::cerr << "calibration " << c.name << ": evaluation " << t.x.size() - 1 << " rms residual "
-                      << formatNumber(t.rms.back()) << '\n';
-        }
-    };
-    CalibrationTrace t;
-    try {
-        CalibrationOptions fit = c.fit;
-        fit.residuals = static_cast<int>(c.targets.size());
-        t = calibrate(c.params, [&](const std::vector<double>& x) { return d.residuals(x); }, fit, onEval);
-    } catch (const DeadlineReached&) {
-        last.stop = "max-hours";
-        nlohmann::json j = d.report(last, "stopped-at-max-hours");
-        d.writeReport(j);
-        return j;
-    }
-    nlohmann::json j = d.report(t, maxAbs(t.r[t.best]) <= 1 ? "within-band" : "outside-band");
+    CalibrationOptions fit = c.fit;
+    fit.residuals = static_cast<int>(c.targets.size());
+    const FitOutcome f = runFit(
+        c.name, c.params, [&](const std::vector<double>& x) { return d.residuals(x); }, fit, c.progress,
+        [&](const CalibrationTrace& t) { d.writeReport(d.report(t, "in-progress")); });
+    const CalibrationTrace& t = f.trace;
+    const nlohmann::json j = d.report(t, f.stopped                        ? "stopped-at-max-hours"
+                                         : maxAbs(t.r[t.best]) <= 1 ? "within-band"
+                                                                    : "outside-band");
     d.writeReport(j);
     return j;
 }

@@ -59,8 +59,7 @@ nlohmann::json runMixerCalibration(const MixerCalibration& c);
 std::optional<double> depositFor(const std::vector<std::vector<double>>& xs, const std::vector<double>& loadings,
                                  const std::vector<double>& x, const std::vector<CalibrationBound>& bounds);
 
-// "weir.chord_angle_deg=20:88[:55]" and "39:5:0.311[:0.12]" (rpm:feed:loading[:tol]).
-CalibrationBound parseCalibrationParam(const std::string& text);
+// "39:5:0.311[:0.12]" (rpm:feed:loading[:tol]); the parameters parse with parseCalibrationParam.
 LoadingTarget parseLoadingTarget(const std::string& text);
 
 }  // namespace mixload::experiments

@@ -15,6 +15,7 @@ CollapseScene CollapseOverrides::scene() const {
     s.rheology = rheology;
     s.convention = convention;
     s.etaMax = etaMax;
+    s.capHeightRatio = capHeightRatio;
     s.restFraction = restFraction;
     s.capTstar = capTstar;
     s.writesPerTstar = writesPerTstar;

@@ -14,6 +14,7 @@ struct CollapseOverrides {
     double length = 0.05;
     int cellsPerLength = 30;
     std::optional<double> muS, muD, I0, etaMax;
+    double capHeightRatio = 1.0;
     std::string rheology = "muI";
     std::string convention = "standard";
     double restFraction = 0.01;

@@ -21,6 +21,9 @@ void CollapseScene::validate() const {
     if (convention != "standard" && convention != "paper")
         throw InputError("convention", convention, "standard|paper");
     if (etaMax) requirePositive("eta-max", *etaMax);
+    requireRange("cap-h-ratio", capHeightRatio, 1e-3, 1e6);
+    if (etaMax && capHeightRatio != 1.0)
+        throw InputError("cap-h-ratio", formatNumber(capHeightRatio), "1 with --eta-max (one or the other)");
     requirePositive("p-min", pMin);
     requireRange("writes-per-tstar", writesPerTstar, 1, 200);
     requireRange("rest-fraction", restFraction, 0.0, 0.5, false, true);
@@ -34,7 +37,7 @@ void CollapseScene::validate() const {
 
 double CollapseScene::etaMaxValue() const {
     return etaMax ? *etaMax
-                  : rheology::rauterEtaMax(material.grainDensity, gravity, height());
+                  : rheology::rauterEtaMax(material.grainDensity, gravity, capHeightRatio * height());
 }
 
 double CollapseScene::muSCase() const {

@@ -19,7 +19,8 @@ struct CollapseScene {
     int cellsPerLength = 30;      // Li / dx
     std::string rheology = "muI"; // muI | muIRegularised | schaeffer
     std::string convention = "standard";  // standard | paper (eta = mu p / (sqrt 2 gammaDot))
-    std::optional<double> etaMax; // [Pa s]; default Rauter's with H = Hi
+    std::optional<double> etaMax; // [Pa s]; default Rauter's with H = Hi ...
+    double capHeightRatio = 1.0;  // ... times this (H = ratio x Hi): the cap keeps Hi^1.5 scaling
     double pMin = 1.0;            // [Pa]
     double gravity = 9.81;        // [m/s2]
     double restFraction = 0.01;   // rest: KE < restFraction * peak KE ...

@@ -118,3 +118,76 @@ TEST(CalibrateCli, BadInputIsRefusedBeforeAnyRun) {
         EXPECT_FALSE(fs::exists(dir / "bad")) << needle;
     }
 }
+
+// `mixload calibrate collapse` on tiny collapses (Li/8, about 5 s each): data made by a run with a
+// known viscosity cap is fitted back to that cap, the second call replays the ledger, and the
+// report says whether a squat column keeps its height.
+TEST(CalibrateCollapseCli, RecoversAKnownCapAndReplaysItsLedger) {
+    const fs::path dir = scratchDir("calibrate-collapse");
+    const auto truth = runMixload({"collapse", "--material", "quartz", "--cells-per-length", "8", "--aspect", "1",
+                                   "--cap-h-ratio", "10", "--out", (dir / "truth").string(), "--json"});
+    ASSERT_EQ(truth.rc, 0) << truth.err;
+    const double L = nlohmann::json::parse(truth.out)["runout_star"].get<double>();
+    {
+        std::ofstream csv(dir / "data.csv");
+        csv << "# made by a run with cap_h_ratio = 10\naspect,runout_star,runout_sd,height_star,height_sd\n1,"
+            << L << ',' << 0.03 * L << ",,\n";
+    }
+    const std::vector<std::string> args{"calibrate", "collapse", "--name", "cap", "--dir", dir.string(),
+                                        "--material", "quartz", "--cells-per-length", "8",
+                                        "--param", "cap_h_ratio=1:100:2:log", "--data", (dir / "data.csv").string(),
+                                        "--stop-rms", "0.5", "--json"};
+    const auto r = runMixload(args);
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["status"], "within-uncertainty");
+    const auto& best = j["best"];
+    EXPECT_LE(std::abs(best["runs"][0]["residual_runout"].get<double>()), 0.5);
+    // The runout pins the cap: the fitted ratio lies near the one that made the data.
+    const double ratio = best["keys"]["cap_h_ratio"].get<double>();
+    EXPECT_GT(ratio, 7.0);
+    EXPECT_LT(ratio, 14.0);
+    EXPECT_GE(j["evaluations"].size(), 2u);
+    // The check run at a = 0.5, and the comparison with the paper's fits, are in the report.
+    ASSERT_TRUE(j.contains("check"));
+    EXPECT_DOUBLE_EQ(j["check"]["aspect"].get<double>(), 0.5);
+    EXPECT_EQ(j["check"]["keeps_height"].get<bool>(), j["check"]["height_star"].get<double>() >= 1.0 - 1.0 / 4.0);
+    EXPECT_EQ(j["paper_fits"].size(), 4u);
+    for (const char* f : {"calibration.md", "calibration.csv", "calibration.json", "calibration.png"})
+        EXPECT_TRUE(fs::exists(dir / "cap" / "report" / f)) << f;
+    // Again: every run from the ledger, the same answer.
+    const auto again = nlohmann::json::parse(runMixload(args).out);
+    EXPECT_EQ(again["runs_new"], 0);
+    EXPECT_EQ(again["runs_reused"].get<int>(), j["runs_new"].get<int>());
+    EXPECT_EQ(again["best"]["keys"], best["keys"]);
+}
+
+TEST(CalibrateCollapseCli, BadInputIsRefusedBeforeAnyRun) {
+    const fs::path dir = scratchDir("calibrate-collapse-bad");
+    {
+        std::ofstream csv(dir / "data.csv");
+        csv << "aspect,runout_star,runout_sd,height_star,height_sd\n1,1.2,0.1,,\n";
+        std::ofstream bad(dir / "bad.csv");
+        bad << "aspect,runout_star,runout_sd,height_star,height_sd\n1,1.2,,,\n";
+    }
+    const std::string data = (dir / "data.csv").string();
+    const std::vector<std::pair<std::vector<std::string>, std::string>> cases{
+        {{"--param", "mu_x=0.3:0.6", "--data", data}, "mu_x"},
+        {{"--param", "cap_h_ratio=1:10", "--param", "eta_max=10:100", "--data", data}, "one of the two caps"},
+        {{"--param", "mu_s=0.3:0.6", "--data", data, "--aspect", "2"}, "aspect"},
+        {{"--param", "mu_s=0.3:0.6"}, "--data FILE or --law NAME"},
+        {{"--param", "mu_s=0.3:0.6", "--data", (dir / "bad.csv").string()}, "runout_sd"},
+        {{"--param", "mu_s=0.3:0.6", "--law", "lube2005", "--aspects", "1,2.3"}, "regimes"},
+        {{"--param", "mu_s=0.3:0.6", "--data", (dir / "none.csv").string()}, "none.csv"},
+        {{"--param", "mu_s=0.3:0.6:log:x", "--data", data}, "mu_s"},
+        {{"--param", "i0=0:0.6", "--data", data}, "i0"},  // the scene refuses I0 = 0 at the range's end
+    };
+    for (const auto& [extra, needle] : cases) {
+        std::vector<std::string> args{"calibrate", "collapse", "--name", "bad", "--dir", dir.string(), "--cells-per-length", "8"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        const auto r = runMixload(args);
+        EXPECT_EQ(r.rc, 2) << needle << ": " << r.err;
+        EXPECT_NE(r.err.find(needle), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(dir / "bad")) << needle;
+    }
+}

@@ -9,6 +9,7 @@
 
 #include "calibrate/calibrator.hpp"
 #include "calibrate/mixer_calibration.hpp"
+#include "common/input_error.hpp"
 
 using namespace mixload::experiments;
 
@@ -110,4 +111,32 @@ TEST(Calibrator, TheDepositFollowsTheEvaluationsSoFar) {
     // Two parameters: the nearest evaluation's loading.
     const std::vector<CalibrationBound> b2{{"a", 0, 1, 0.5}, {"b", 0, 10, 5}};
     EXPECT_DOUBLE_EQ(*depositFor({{0.1, 1}, {0.9, 9}}, {0.2, 0.4}, {0.8, 8}, b2), 0.4);
+}
+
+TEST(Calibrator, ALogScaledParameterSearchesInFactors) {
+    // A viscosity cap spanning four decades; the response is linear in log(x): a log search finds
+    // the root in a handful of evaluations, and every point stays inside the bounds.
+    const CalibrationBound b = parseCalibrationParam("cap_h_ratio=1:10000:log", false);
+    EXPECT_TRUE(b.log);
+    EXPECT_DOUBLE_EQ(b.start, 100.0);  // the geometric middle
+    const auto t = calibrate(
+        {b}, [](const std::vector<double>& x) { return std::vector<double>{(std::log10(x[0]) - 2.6) / 0.05}; }, {});
+    EXPECT_EQ(t.stop, "within-stop-rms");
+    EXPECT_LE(t.x.size(), 6u);
+    EXPECT_NEAR(std::log10(t.x[t.best][0]), 2.6, 0.05 * 0.25 + 1e-12);
+    for (const auto& x : t.x) {
+        EXPECT_GE(x[0], 1.0);
+        EXPECT_LE(x[0], 10000.0);
+    }
+}
+
+TEST(Calibrator, ParamTextIsCheckedField) {
+    EXPECT_THROW(parseCalibrationParam("mu_s=0.3:0.6"), mixload::InputError);  // the mixer wants TABLE.KEY
+    EXPECT_NO_THROW(parseCalibrationParam("mu_s=0.3:0.6", false));
+    EXPECT_THROW(parseCalibrationParam("mu_s=0:10:log", false), mixload::InputError);  // log needs LO > 0
+    EXPECT_THROW(parseCalibrationParam("mu_s=0.6:0.3", false), mixload::InputError);
+    EXPECT_THROW(parseCalibrationParam("mu_s=0.3:0.6:0.9", false), mixload::InputError);  // start outside
+    const auto b = parseCalibrationParam("i0=0.1:0.5:0.2", false);
+    EXPECT_FALSE(b.log);
+    EXPECT_DOUBLE_EQ(b.start, 0.2);
 }
