@@ -75,8 +75,8 @@ void addCalibrateCollapse(CLI::App* top, Action& action) {
     cmd->add_option("--name", o->name, "Calibration name: <dir>/<name>/ holds its ledger, runs and report")->required();
     cmd->add_option("--dir", o->dir, "Directory of calibrations")->capture_default_str();
     cmd->add_option("--param", o->params,
-                    "A coefficient to fit and its bounds, KEY=LO:HI[:START][:log], KEY one of mu_s, mu_d, i0, "
-                    "cap_h_ratio (Rauter's H / Hi), eta_max [Pa s]; repeatable")
+                    "A coefficient to fit and its bounds, KEY=LO:HI[:START][:log], KEY one of mu_s, mu_d, delta_mu "
+                    "(mu_d - mu_s), i0, cap_h_ratio (Rauter's H / Hi), eta_max [Pa s]; repeatable")
         ->required();
     auto* data = cmd->add_option("--data", o->data,
                                  "CSV of measurements: aspect,runout_star,runout_sd,height_star,height_sd "
@@ -114,13 +114,23 @@ void addCalibrateCollapse(CLI::App* top, Action& action) {
             c.sceneFor = [base](const std::map<std::string, double>& keys, double aspect) {
                 scene::CollapseOverrides s = base;
                 s.aspect = aspect;
+                std::optional<double> deltaMu;
                 for (const auto& [k, v] : keys) {
                     if (k == "mu_s") s.muS = v;
                     else if (k == "mu_d") s.muD = v;
+                    else if (k == "delta_mu") deltaMu = v;
                     else if (k == "i0") s.I0 = v;
                     else if (k == "cap_h_ratio") s.capHeightRatio = v;
                     else if (k == "eta_max") s.etaMax = v;
-                    else throw InputError("param", k, "mu_s|mu_d|i0|cap_h_ratio|eta_max");
+                    else throw InputError("param", k, "mu_s|mu_d|delta_mu|i0|cap_h_ratio|eta_max");
+                }
+                // delta_mu keeps mu_d above mu_s wherever the search goes.
+                if (deltaMu) {
+                    s.muD.reset();
+                    scene::CollapseScene sc = s.scene();
+                    sc.material.muD = sc.material.muS + *deltaMu;
+                    sc.validate();
+                    return sc;
                 }
                 return s.scene();
             };

@@ -23,7 +23,7 @@ namespace mixload::experiments {
 namespace fs = std::filesystem;
 
 const std::vector<std::string>& collapseFitKeys() {
-    static const std::vector<std::string> keys{"mu_s", "mu_d", "i0", "cap_h_ratio", "eta_max"};
+    static const std::vector<std::string> keys{"mu_s", "mu_d", "delta_mu", "i0", "cap_h_ratio", "eta_max"};
     return keys;
 }
 
@@ -346,24 +346,27 @@ void Driver::writeReport(const nlohmann::json& j) const {
 void validateCollapseCalibration(const CollapseCalibration& c) {
     if (c.name.empty() || c.name.find_first_of("/\\ ") != std::string::npos)
         throw InputError("name", c.name, "a non-empty name without '/', '\\' or blanks");
-    if (c.params.empty()) throw InputError("param", "<none>", "at least one --param KEY=LO:HI (mu_s, mu_d, i0, cap_h_ratio, eta_max)");
+    if (c.params.empty()) throw InputError("param", "<none>", "at least one --param KEY=LO:HI (mu_s, mu_d, delta_mu, i0, cap_h_ratio, eta_max)");
     if (c.data.points.empty()) throw InputError("data", "<none>", "--data FILE or --law NAME");
     requireRange("max-evals", c.fit.maxEvals, 1, 200);
     requireRange("stop-rms", c.fit.stopRms, 0.0, 10.0, false, true);
     requireRange("jobs", c.jobs, 1, 64);
     requireRange("max-hours", c.maxHours, 0, 1e5);
     requireRange("check-aspect", c.checkAspect, 0.0, 10.0);
-    bool cap = false, eta = false;
+    bool cap = false, eta = false, muD = false, delta = false;
     for (size_t i = 0; i < c.params.size(); ++i) {
         const auto& k = c.params[i].key;
         if (std::find(collapseFitKeys().begin(), collapseFitKeys().end(), k) == collapseFitKeys().end())
-            throw InputError("param", k, "mu_s|mu_d|i0|cap_h_ratio|eta_max");
+            throw InputError("param", k, "mu_s|mu_d|delta_mu|i0|cap_h_ratio|eta_max");
         for (size_t j = 0; j < i; ++j)
             if (c.params[j].key == k) throw InputError("param", k, "each key once");
         cap = cap || k == "cap_h_ratio";
         eta = eta || k == "eta_max";
+        muD = muD || k == "mu_d";
+        delta = delta || k == "delta_mu";
     }
     if (cap && eta) throw InputError("param", "cap_h_ratio and eta_max", "one of the two caps");
+    if (muD && delta) throw InputError("param", "mu_d and delta_mu", "one of the two");
     // Both ends and the start of each range must make a valid scene at every aspect: refuse now.
     std::vector<double> aspects;
     for (const auto& p : c.data.points) aspects.push_back(p.aspect);

@@ -18,8 +18,9 @@
 
 namespace mixload::experiments {
 
-// The parameters a collapse fit may vary: mu_s, mu_d, i0, cap_h_ratio (Rauter's H / Hi), eta_max
-// [Pa s] (one cap for every column; not with cap_h_ratio).
+// The parameters a collapse fit may vary: mu_s, mu_d or delta_mu (mu_d - mu_s: keeps mu_d above
+// mu_s wherever the search goes), i0, cap_h_ratio (Rauter's H / Hi) or eta_max [Pa s] (one cap
+// for every column).
 const std::vector<std::string>& collapseFitKeys();
 
 struct CollapseCalibration {

@@ -175,6 +175,7 @@ TEST(CalibrateCollapseCli, BadInputIsRefusedBeforeAnyRun) {
         {{"--param", "mu_x=0.3:0.6", "--data", data}, "mu_x"},
         {{"--param", "cap_h_ratio=1:10", "--param", "eta_max=10:100", "--data", data}, "one of the two caps"},
         {{"--param", "mu_s=0.3:0.6", "--data", data, "--aspect", "2"}, "aspect"},
+        {{"--param", "mu_d=0.5:0.9", "--param", "delta_mu=0.1:0.4", "--data", data}, "one of the two"},
         {{"--param", "mu_s=0.3:0.6"}, "--data FILE or --law NAME"},
         {{"--param", "mu_s=0.3:0.6", "--data", (dir / "bad.csv").string()}, "runout_sd"},
         {{"--param", "mu_s=0.3:0.6", "--law", "lube2005", "--aspects", "1,2.3"}, "regimes"},
