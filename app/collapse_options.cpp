@@ -21,6 +21,8 @@ void CollapseOptions::add(CLI::App* cmd) {
     cmd->add_option("--cap-h-ratio", capHeightRatio,
                     "Rauter's cap with H = this x Hi (a taller H: a stiffer cap, less creep of squat columns)")
         ->capture_default_str();
+    cmd->add_option("--max-courant", maxCourant, "Flow and interface Courant limit of the time step")
+        ->capture_default_str();
     cmd->add_option("--rest-fraction", restFraction,
                     "At rest when kinetic energy < this x its peak for 0.5 t*")
         ->capture_default_str();

@@ -2,6 +2,7 @@
 #include "run/collapse_job.hpp"
 
 #include <chrono>
+#include <cmath>
 
 #include "cases/collapse2d.hpp"
 #include "common/atomic_file.hpp"
@@ -52,6 +53,19 @@ nlohmann::json runCollapse(const CollapseJob& job) {
     const double solverWall = runSolver(r);
 
     nlohmann::json result = post::collapseResult(s, dir);
+    // A collapse that lost powder has no runout to report: refuse it rather than write a result
+    // that looks complete (the domain is sized to an estimate of the runout; very mobile powders
+    // outrun it and leave through the open side).
+    const double lost = result["powder_mass_error"].get<double>();
+    if (std::abs(lost) > 1e-3 || result["powder_reached_domain_end"].get<bool>())
+        throw RunError("collapse a=" + formatNumber(s.aspect) + " of " + s.material.name + ": the powder volume changed by " +
+                       formatNumber(100 * lost) + "%" +
+                       (result["powder_reached_domain_end"].get<bool>()
+                            ? " and the deposit reaches the domain's open right side: the runout is longer than the "
+                              "domain sized for it (" + formatNumber((s.domainWidth() - s.length) / s.length) +
+                                  " column lengths of runout)"
+                            : "") +
+                       "; no result written, the fields are in " + dir.string());
     result["wall_seconds"] =
         secondsSince(t0);
     result["solver_wall_seconds"] = solverWall;

@@ -16,6 +16,7 @@ CollapseScene CollapseOverrides::scene() const {
     s.convention = convention;
     s.etaMax = etaMax;
     s.capHeightRatio = capHeightRatio;
+    s.maxCourant = maxCourant;
     s.restFraction = restFraction;
     s.capTstar = capTstar;
     s.writesPerTstar = writesPerTstar;

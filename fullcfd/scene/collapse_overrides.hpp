@@ -15,6 +15,7 @@ struct CollapseOverrides {
     int cellsPerLength = 30;
     std::optional<double> muS, muD, I0, etaMax;
     double capHeightRatio = 1.0;
+    double maxCourant = 0.3;
     std::string rheology = "muI";
     std::string convention = "standard";
     double restFraction = 0.01;

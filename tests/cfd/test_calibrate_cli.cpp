@@ -192,3 +192,16 @@ TEST(CalibrateCollapseCli, BadInputIsRefusedBeforeAnyRun) {
         EXPECT_FALSE(fs::exists(dir / "bad")) << needle;
     }
 }
+
+// `mixload stress` (faults and surrogates groups, about a minute): every case ends as a checked
+// result or a clear error; a silent failure fails the test with its name.
+TEST(StressCli, FaultsAndSurrogatesEndWithoutASilentFailure) {
+    const fs::path dir = scratchDir("stress");
+    const auto r = runMixload({"stress", "--only", "faults,surrogates", "--out", dir.string(), "--json"});
+    EXPECT_EQ(r.rc, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_GE(j["cases"].get<int>(), 10);
+    EXPECT_EQ(j["silent_failures"], 0) << r.err;
+    EXPECT_GE(j["clear_errors"].get<int>(), 6);
+    EXPECT_TRUE(fs::exists(dir / "stress.md"));
+}
