@@ -104,7 +104,7 @@ StressCase collapseCase(const std::string& group, const std::string& name, const
 
 StressCase mixerCase(const std::string& group, const std::string& name, const std::string& tries,
                      std::vector<std::string> extra) {
-    const auto args = withOptions({"mixer", "--scene", "gcm250-v2", "--cell-size", "0.03", "--end-time", "0.3",
+    const auto args = withOptions({"mixer", "--scene", "gcm250-v2", "--cell-size", "0.02", "--end-time", "0.3",
                                    "--out", "{dir}/run", "--json"},
                                   extra);
     return StressCase{group, name, tries, false, {{args}}, {}, {}, mixerChecks, {}};
@@ -209,7 +209,7 @@ std::vector<StressCase> stressCases() {
     {
         StressCase c{"faults", "two-drivers", "a second `campaign run` on a campaign whose driver is running", true,
                      {{{"campaign", "create", "c", "--ranges", "{data}/campaigns/mixer-v2-ranges.toml", "--n", "2",
-                        "--cell-size", "0.03", "--end-time", "0.2", "--dir", "{dir}"}},
+                        "--cell-size", "0.02", "--end-time", "0.2", "--dir", "{dir}"}},
                       {{"campaign", "run", "c", "--dir", "{dir}", "--json"}, 25.0, true},
                       {{"campaign", "run", "c", "--dir", "{dir}", "--json"}}},
                      {},
@@ -328,7 +328,9 @@ nlohmann::json runStress(const StressOptions& o) {
                 }
                 if (c.steps[i].background) {
                     background = std::thread([&, i] { bgOutcome = runStep(o.exe, c.steps[i], dir, static_cast<int>(i)); });
-                    std::this_thread::sleep_for(std::chrono::seconds(3));  // let it take the campaign
+                    // Until the first driver holds the campaign (its first run directory appears).
+                    for (int w = 0; w < 600 && !fs::exists(dir / "c" / "runs"); ++w)
+                        std::this_thread::sleep_for(std::chrono::milliseconds(100));
                     continue;
                 }
                 last = runStep(o.exe, c.steps[i], dir, static_cast<int>(i));

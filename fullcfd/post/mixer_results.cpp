@@ -64,6 +64,21 @@ nlohmann::json readCheckMesh(const fs::path& caseDir) {
     m["failed_checks"] = 0;
     if (std::regex_search(log, r, std::regex(R"(Failed (\d+) mesh checks)")))
         m["failed_checks"] = std::stoi(r[1]);
+    // Faces per patch, from the patch topology table: a patch the mesh resolves with no face (a feed
+    // inlet smaller than the cells) passes checkMesh but breaks the solver's boundary conditions.
+    const auto table = log.find("Patch               Faces");
+    if (table != std::string::npos) {
+        std::istringstream rows(log.substr(log.find('\n', table) + 1));
+        nlohmann::json faces = nlohmann::json::object();
+        for (std::string line; std::getline(rows, line);) {
+            std::istringstream is(line);
+            std::string name;
+            long n = -1;
+            if (!(is >> name >> n)) break;
+            faces[name] = n;
+        }
+        m["patch_faces"] = faces;
+    }
     return m;
 }
 

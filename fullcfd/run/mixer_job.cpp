@@ -123,6 +123,10 @@ nlohmann::json runMixer(const MixerJob& job) {
             if (mesh.value("failed_checks", 0) > 0 && !mesh.value("ok", false))
                 throw RunError("checkMesh failed " + std::to_string(mesh.value("failed_checks", 0)) +
                                " checks; see " + (tmp / "log.checkMesh").string());
+            for (const char* patch : {"inlet", "outlet"})
+                if (mesh.contains("patch_faces") && mesh["patch_faces"].value(patch, 1L) == 0)
+                    throw RunError(std::string("the mesh has no face on the ") + patch + " patch (cell size " +
+                                   formatNumber(s.cellSize) + " m is too coarse to resolve it): use a finer mesh");
             cases::writeMixerSolverCase(s, tmp);
             if (!job.warmFrom.empty() && isFieldFile(job.warmFrom)) {
                 writeFileAtomic(tmp / "start.json", warmStartFromField(s, tmp, job.warmFrom).dump(2));
