@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// `mixload bench rom`: full collapse runs against the POD-Galerkin model and kriging on held-out runs.
+// `mixload bench pareto` (also `bench rom`): time against error on held-out collapse runs for the
+// full model on several meshes, the POD-Galerkin model, POD regression and kriging.
 #include <iomanip>
 #include <iostream>
 
@@ -18,6 +19,7 @@ struct BenchRom {
     std::vector<std::string> held{"0.85:1.2:0.33", "1.15:1.45:0.26", "0.9:1.35:0.25", "1.33:1.69:0.3"};
     int modes = 20;
     std::string pressure = "lithostatic";
+    std::vector<int> coarse{4, 6};
     std::string out = "runs/bench-rom";
     bool json = false;
 };
@@ -41,11 +43,16 @@ void addBenchRom(CLI::App* bench, Action& action) {
     auto o = std::make_shared<BenchRom>();
     o->scene.cellsPerLength = 8;
     auto* c = bench->add_subcommand(
-        "rom", "Collapse: full runs against the POD-Galerkin model, POD regression and kriging on held-out (mu_s, mu_d, I0): time and "
-               "error per answer, offline cost, break-even");
+        "pareto", "Collapse: time against error on held-out (mu_s, mu_d, I0) for full runs on the reference and coarser meshes, the "
+                  "POD-Galerkin model, POD regression and kriging: time and error per answer, offline cost, break-even, the Pareto "
+                  "front (also: bench rom)");
+    c->alias("rom");
     o->scene.add(c);
     c->add_option("--train", o->train, "Training points mu_s:mu_d:I0")->capture_default_str();
     c->add_option("--held-out", o->held, "Held-out points mu_s:mu_d:I0")->capture_default_str();
+    c->add_option("--coarse-meshes", o->coarse, "Coarser meshes (cells per length) the full model also runs on at the held-out points")
+        ->delimiter(',')
+        ->capture_default_str();
     c->add_option("--modes", o->modes, "Flow modes of the Galerkin model")->capture_default_str();
     c->add_option("--pressure", o->pressure, "Galerkin pressure closure: lithostatic | recovered")->capture_default_str();
     c->add_option("--out", o->out, "Directory (full runs resume from it)")->capture_default_str();
@@ -62,6 +69,7 @@ void addBenchRom(CLI::App* bench, Action& action) {
             b.options.modes = o->modes;
             b.options.pressure = o->pressure == "recovered" ? rom::PressureClosure::recovered : rom::PressureClosure::lithostatic;
             b.out = o->out;
+            b.coarseCells = o->coarse;
             b.progress = !o->json;
             const auto j = experiments::runRomBench(b);
             if (o->json) {
@@ -81,7 +89,8 @@ void addBenchRom(CLI::App* bench, Action& action) {
                       << j["offline"]["galerkin_build_seconds"].get<double>() << " s; break-even after "
                       << j["break_even_answers"]["galerkin"].get<double>() << " answers (Galerkin), "
                       << j["break_even_answers"]["kriging"].get<double>() << " (kriging)\n"
-                      << readFile(j["table"].get<std::string>()) << "plot: " << j["plot"].get<std::string>() << '\n';
+                      << readFile(j["table"].get<std::string>()) << "plot: " << j["plot"].get<std::string>() << "\n\n"
+                      << readFile(j["pareto_table"].get<std::string>()) << "plot: " << j["pareto_plot"].get<std::string>() << '\n';
             if (j.contains("warning")) std::cout << "warning: " << j["warning"].get<std::string>() << '\n';
             return 0;
         };

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "bench/rom_bench.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <iomanip>
 #include <iostream>
@@ -11,6 +13,7 @@
 #include "common/clock.hpp"
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
+#include "common/stats.hpp"
 #include "kriging/kriging.hpp"
 #include "kriging/unit_box.hpp"
 #include "post/snapshots.hpp"
@@ -64,11 +67,49 @@ std::string label(const CollapsePoint& p) {
     return os.str();
 }
 
+// One held-out point on a coarser mesh: the full model's cheap answer (no snapshots).
+nlohmann::json coarseRun(const RomBench& b, const CollapsePoint& p, int cells, const std::string& name) {
+    scene::CollapseOverrides o = b.base;
+    o.muS = p.muS;
+    o.muD = p.muD;
+    o.I0 = p.i0;
+    o.cellsPerLength = cells;
+    run::CollapseJob job;
+    job.scene = o.scene();
+    job.out = b.out / "runs" / name;
+    return run::runCollapse(job);
+}
+
+std::string paretoTable(const std::vector<ParetoMethod>& ms) {
+    std::ostringstream md;
+    md << std::setprecision(3) << "| method | online time per answer [s] | median L*f error | median H*f error | offline [s] | Pareto front |\n"
+       << "|---|---|---|---|---|---|\n";
+    for (const auto& m : ms)
+        md << "| " << m.name << " | " << m.seconds << " | "
+           << (m.reference ? std::string("reference") : formatNumber(std::round(m.runoutError * 1e5) / 1e3) + "%") << " | "
+           << (m.reference ? std::string("reference") : formatNumber(std::round(m.heightError * 1e5) / 1e3) + "%") << " | "
+           << m.offlineSeconds << " | " << (m.front ? "yes" : "") << " |\n";
+    return md.str();
+}
+
 }  // namespace
+
+void markParetoFront(std::vector<ParetoMethod>& ms) {
+    for (auto& m : ms) {
+        m.front = true;
+        for (const auto& o : ms)
+            if (&o != &m && o.seconds <= m.seconds && o.error <= m.error && (o.seconds < m.seconds || o.error < m.error))
+                m.front = false;
+    }
+}
 
 nlohmann::json runRomBench(const RomBench& b) {
     if (b.train.size() < 2) throw InputError("train", std::to_string(b.train.size()) + " points", "two or more training points");
     if (b.heldOut.empty()) throw InputError("held-out", "none", "one or more held-out points");
+    for (int n : b.coarseCells)
+        if (n >= b.base.cellsPerLength)
+            throw InputError("coarse-meshes", std::to_string(n),
+                             "fewer cells per length than the reference mesh's " + std::to_string(b.base.cellsPerLength));
     fs::create_directories(b.out);
     const auto say = [&](const std::string& s) {
         if (b.progress) std::cerr << "bench rom: " << s << '\n';
@@ -121,7 +162,8 @@ nlohmann::json runRomBench(const RomBench& b) {
 
     nlohmann::json rows = nlohmann::json::array();
     double fullMean = 0, romMean = 0, krigMean = 0, regMean = 0;
-    for (const auto& r : held) {
+    for (size_t h = 0; h < held.size(); ++h) {
+        const auto& r = held[h];
         say("predicting " + label(r.point));
         const store::SnapshotFile f(r.snapshots);
         const auto c = rom::checkCollapse(model, f);
@@ -180,6 +222,18 @@ nlohmann::json runRomBench(const RomBench& b) {
                           {"height_star", H},
                           {"runout_error", (L - Lf) / Lf},
                           {"height_error", (H - Hf) / Hf}}}});
+        nlohmann::json coarse = nlohmann::json::array();
+        for (int n : b.coarseCells) {
+            say("held-out run " + label(r.point) + " on Li/" + std::to_string(n));
+            const auto c = coarseRun(b, r.point, n, "held-" + std::to_string(h) + "-li" + std::to_string(n));
+            coarse.push_back({{"cells_per_length", n},
+                              {"seconds", c["wall_seconds"]},
+                              {"runout_star", c["runout_star"]},
+                              {"height_star", c["height_star"]},
+                              {"runout_error", (c["runout_star"].get<double>() - Lf) / Lf},
+                              {"height_error", (c["height_star"].get<double>() - Hf) / Hf}});
+        }
+        rows.back()["full_coarse"] = coarse;
     }
     const double romOffline = offlineFull + offlineExport + model.buildSeconds;
     const double krigOffline = offlineFull + krigingFit;
@@ -206,6 +260,72 @@ nlohmann::json runRomBench(const RomBench& b) {
                          {"pod_regression", breakEven(offlineFull + regressionFit, regMean)},
                          {"kriging", breakEven(krigOffline, krigMean)}}},
                        {"rows", rows}};
+
+    // Time against error: per method the medians over the held-out runs.
+    std::vector<ParetoMethod> methods;
+    const auto summarise = [&](const std::string& name, const std::function<const nlohmann::json&(const nlohmann::json&)>& at,
+                               double offline) {
+        std::vector<double> t, eL, eH;
+        for (const auto& r : rows) {
+            const auto& m = at(r);
+            t.push_back(m["seconds"].get<double>());
+            eL.push_back(std::abs(m["runout_error"].get<double>()));
+            eH.push_back(std::abs(m["height_error"].get<double>()));
+        }
+        ParetoMethod p{name, median(t), 0, median(eL), median(eH), offline, false, false};
+        p.error = std::max(p.runoutError, p.heightError);
+        methods.push_back(p);
+    };
+    {
+        std::vector<double> t;
+        for (const auto& r : rows) t.push_back(r["full"]["seconds"].get<double>());
+        methods.push_back({"full run, Li/" + std::to_string(b.base.cellsPerLength) + " (reference)", median(t), 0, 0, 0, 0, true, false});
+    }
+    for (size_t k = 0; k < b.coarseCells.size(); ++k)
+        summarise("full run, Li/" + std::to_string(b.coarseCells[k]), [k](const nlohmann::json& r) -> const nlohmann::json& { return r["full_coarse"][k]; }, 0);
+    summarise("POD-Galerkin", [](const nlohmann::json& r) -> const nlohmann::json& { return r["galerkin"]; }, romOffline);
+    summarise("POD regression", [](const nlohmann::json& r) -> const nlohmann::json& { return r["pod_regression"]; },
+              offlineFull + regressionFit);
+    summarise("kriging", [](const nlohmann::json& r) -> const nlohmann::json& { return r["kriging"]; }, krigOffline);
+    markParetoFront(methods);
+    nlohmann::json pareto = nlohmann::json::array();
+    std::ostringstream pcsv, pdat;
+    pcsv << "method,seconds,runout_error,height_error,offline_seconds,front\n";
+    for (const auto& m : methods) {
+        pareto.push_back({{"method", m.name}, {"seconds", m.seconds}, {"runout_error", m.runoutError},
+                          {"height_error", m.heightError}, {"offline_seconds", m.offlineSeconds},
+                          {"reference", m.reference}, {"front", m.front}});
+        pcsv << '"' << m.name << "\"," << m.seconds << ',' << m.runoutError << ',' << m.heightError << ',' << m.offlineSeconds
+             << ',' << (m.front ? 1 : 0) << '\n';
+    }
+    // Front in order of time, the reference drawn at the error floor.
+    std::vector<ParetoMethod> byTime = methods;
+    std::sort(byTime.begin(), byTime.end(), [](const auto& a, const auto& c) { return a.seconds < c.seconds; });
+    const double floor = 1e-4;
+    for (const auto& m : byTime) pdat << m.seconds << ' ' << std::max(m.error, floor) << " \"" << m.name << "\" " << (m.front ? 1 : 0) << '\n';
+    pdat << "\n\n";
+    for (const auto& m : byTime)
+        if (m.front) pdat << m.seconds << ' ' << std::max(m.error, floor) << '\n';
+    writeFileAtomic(b.out / "pareto.md", "Collapse, " + std::to_string(held.size()) + " held-out runs (" +
+                                             std::to_string(model.mesh.cells) + " cells at Li/" +
+                                             std::to_string(b.base.cellsPerLength) + "), models trained on " +
+                                             std::to_string(train.size()) + "; medians over the held-out runs; error: " +
+                                             "|relative error| against the reference full run.\n\n" + paretoTable(methods));
+    writeFileAtomic(b.out / "pareto.csv", pcsv.str());
+    writeFileAtomic(b.out / "pareto.dat", pdat.str());
+    std::ostringstream pgp;
+    pgp << "set terminal pngcairo size 860,560 noenhanced\nset output 'pareto.png'\nset logscale xy\nset grid\n"
+        << "set xlabel 'online time per answer [s] (median)'\nset ylabel 'error: larger of the median |relative errors| in L*f, H*f'\n"
+        << "set title 'Collapse: time against error, " << held.size() << " held-out runs (reference drawn at " << floor << ")'\n"
+        << "set offsets graph 0.1, graph 0.3, graph 0.2, graph 0.2\nset key bottom left\n"
+        << "plot 'pareto.dat' index 0 using 1:2 with points pt 7 ps 1.5 lc 'blue' title 'methods', "
+        << "'' index 0 using 1:2:3 with labels offset 0,1 font ',9' notitle, "
+        << "'' index 1 using 1:2 with steps lw 2 lc 'red' title 'Pareto front'\n";
+    const std::string pwarn = runGnuplot(b.out, "pareto.gp", pgp.str());
+    out["pareto"] = pareto;
+    out["pareto_table"] = (b.out / "pareto.md").string();
+    out["pareto_plot"] = (b.out / "pareto.png").string();
+    if (!pwarn.empty()) out["pareto_warning"] = pwarn;
 
     // Table and plot: error against online time per held-out run and method.
     std::ostringstream md, csv, dat;

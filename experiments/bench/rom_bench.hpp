@@ -26,12 +26,26 @@ struct CollapsePoint {
 struct RomBench {
     scene::CollapseOverrides base;  // material, aspect, cells; the points override mu_s, mu_d, I0
     std::vector<CollapsePoint> train, heldOut;
+    // The full model itself on coarser meshes (cells per column length) at the held-out points: the
+    // cheapest full answers, measured against the same reference.
+    std::vector<int> coarseCells;
     rom::CollapseGalerkinOptions options;
     std::filesystem::path out;
     bool progress = false;
 };
 
-// Writes <out>/table.md, <out>/table.csv and <out>/rom-bench.png; returns the rows and costs.
+// Writes <out>/table.md, table.csv, rom-bench.png, and the time-against-error summary pareto.md,
+// pareto.csv and pareto.png (per method the median online time per answer and median |relative
+// error| in L*f and H*f, offline cost apart, the Pareto front marked); returns the rows and costs.
 nlohmann::json runRomBench(const RomBench& bench);
+
+struct ParetoMethod {
+    std::string name;
+    double seconds = 0, error = 0;  // median online time per answer; error: the larger of the medians
+    double runoutError = 0, heightError = 0, offlineSeconds = 0;
+    bool reference = false, front = false;
+};
+// Marks the methods no other beats on both time and error (ties count as not beaten).
+void markParetoFront(std::vector<ParetoMethod>& methods);
 
 }  // namespace mixload::experiments

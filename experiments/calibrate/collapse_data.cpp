@@ -73,7 +73,7 @@ CollapseData parseCollapseData(const std::string& text, const std::string& origi
             v[i] = parseNumber(cells[i]);
             if (!v[i] || !std::isfinite(*v[i])) throw InputError(where + ": " + kColumns[i], cells[i], "a number or empty");
         }
-        CollapsePoint p;
+        CollapseMeasurement p;
         if (!v[0]) throw InputError(where + ": aspect", "<empty>", "a number in [0.2, 10]");
         p.aspect = *v[0];
         requireRange(where + ": aspect", p.aspect, 0.2, 10.0);
@@ -195,7 +195,7 @@ CollapseData collapseDataFromLaw(const CollapseLaw& law, const std::vector<doubl
     CollapseData d;
     d.source = law.name + " (" + law.citation + ")";
     for (double a : aspects) {
-        CollapsePoint p;
+        CollapseMeasurement p;
         p.aspect = a;
         p.runout = CollapseLaw::value(law.runout, a);
         if (!p.runout) throw InputError("aspects", formatNumber(a), "inside the regimes " + law.name + " fits: " + law.regimes());

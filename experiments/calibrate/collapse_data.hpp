@@ -12,7 +12,7 @@
 
 namespace mixload::experiments {
 
-struct CollapsePoint {
+struct CollapseMeasurement {
     double aspect = 0;                      // a = Hi / Li
     std::optional<double> runout, runoutSd; // L*f = (Lf - Li) / Li and its standard uncertainty
     std::optional<double> height, heightSd; // H*f = Hf / Hi and its standard uncertainty
@@ -20,7 +20,7 @@ struct CollapsePoint {
 
 struct CollapseData {
     std::string source;  // the file, or the law's name and citation
-    std::vector<CollapsePoint> points;
+    std::vector<CollapseMeasurement> points;
     nlohmann::json toJson() const;
 };
 

@@ -196,8 +196,8 @@ TEST(CollapseGalerkin, RecoveredPressureIsCloserThanTheLithostatic) {
 
 TEST(CollapseGalerkin, BenchmarkComparesTheMethodsOnHeldOutRuns) {
     const fs::path out = scratchDir("bench-rom");
-    const auto r = runMixload({"bench", "rom", "--train", "0.8:1.1:0.35", "--train", "1.3:1.8:0.25", "--train", "1.0:1.6:0.22",
-                               "--held-out", "1.0:1.4:0.3", "--modes", "10", "--out", out.string(), "--json"});
+    const auto r = runMixload({"bench", "pareto", "--train", "0.8:1.1:0.35", "--train", "1.3:1.8:0.25", "--train", "1.0:1.6:0.22",
+                               "--held-out", "1.0:1.4:0.3", "--modes", "10", "--coarse-meshes", "6", "--out", out.string(), "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
     ASSERT_EQ(j["rows"].size(), 1u);
@@ -216,6 +216,24 @@ TEST(CollapseGalerkin, BenchmarkComparesTheMethodsOnHeldOutRuns) {
     EXPECT_GT(j["offline"]["full_runs_seconds"].get<double>(), 0.0);
     EXPECT_TRUE(fs::exists(out / "table.md"));
     EXPECT_TRUE(fs::exists(out / "table.csv"));
+    // The time-against-error summary: the reference, the coarse full run and the three models, the
+    // reference on the front (nothing beats zero error), the coarse run measured against it.
+    ASSERT_EQ(j["pareto"].size(), 5u);
+    EXPECT_TRUE(j["pareto"][0]["reference"].get<bool>());
+    EXPECT_TRUE(j["pareto"][0]["front"].get<bool>());
+    const auto& coarse = row["full_coarse"][0];
+    EXPECT_EQ(coarse["cells_per_length"], 6);
+    EXPECT_LT(coarse["seconds"].get<double>(), row["full"]["seconds"].get<double>() * 1.5);
+    EXPECT_TRUE(std::isfinite(coarse["runout_error"].get<double>()));
+    EXPECT_NE(coarse["runout_star"], row["full"]["runout_star"]);
+    bool anyFront = false;
+    for (const auto& m : j["pareto"]) anyFront = anyFront || (!m["reference"].get<bool>() && m["front"].get<bool>());
+    EXPECT_TRUE(anyFront);  // the fastest method is never beaten on time
+    for (const char* f : {"pareto.md", "pareto.csv", "pareto.png"}) EXPECT_TRUE(fs::exists(out / f)) << f;
+    // A coarse mesh finer than the reference is refused.
+    const auto fine = runMixload({"bench", "pareto", "--coarse-meshes", "12", "--out", (out / "fine").string()});
+    EXPECT_EQ(fine.rc, 2);
+    EXPECT_NE(fine.err.find("coarse-meshes"), std::string::npos) << fine.err;
     // A bad point is refused before any run.
     const auto bad = runMixload({"bench", "rom", "--held-out", "1.0:1.4", "--out", (out / "bad").string()});
     EXPECT_EQ(bad.rc, 2);

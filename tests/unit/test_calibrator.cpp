@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "calibrate/calibrator.hpp"
+#include "bench/rom_bench.hpp"
 #include "calibrate/mixer_calibration.hpp"
 #include "common/input_error.hpp"
 
@@ -139,4 +140,15 @@ TEST(Calibrator, ParamTextIsCheckedField) {
     const auto b = parseCalibrationParam("i0=0.1:0.5:0.2", false);
     EXPECT_FALSE(b.log);
     EXPECT_DOUBLE_EQ(b.start, 0.2);
+}
+
+TEST(ParetoFront, KeepsOnlyMethodsNoOtherBeatsOnBoth) {
+    std::vector<ParetoMethod> ms{{"reference", 10, 0},   {"coarse", 2, 0.05}, {"slow and bad", 5, 0.2},
+                                 {"fast", 1e-6, 0.1},     {"tie", 2, 0.05}};
+    markParetoFront(ms);
+    EXPECT_TRUE(ms[0].front);   // zero error
+    EXPECT_TRUE(ms[1].front);   // tied with "tie": neither beats the other
+    EXPECT_FALSE(ms[2].front);  // coarse is faster and better
+    EXPECT_TRUE(ms[3].front);   // fastest
+    EXPECT_TRUE(ms[4].front);
 }
