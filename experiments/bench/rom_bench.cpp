@@ -112,7 +112,7 @@ nlohmann::json runRomBench(const RomBench& b) {
                              "fewer cells per length than the reference mesh's " + std::to_string(b.base.cellsPerLength));
     fs::create_directories(b.out);
     const auto say = [&](const std::string& s) {
-        if (b.progress) std::cerr << "bench rom: " << s << '\n';
+        if (b.progress) std::cerr << "bench pareto: " << s << '\n';
     };
 
     // Full runs: training (offline) and held out (the reference and the full model's own cost).
@@ -314,7 +314,7 @@ nlohmann::json runRomBench(const RomBench& b) {
     writeFileAtomic(b.out / "pareto.csv", pcsv.str());
     writeFileAtomic(b.out / "pareto.dat", pdat.str());
     std::ostringstream pgp;
-    pgp << "set terminal pngcairo size 860,560 noenhanced\nset output 'pareto.png'\nset logscale xy\nset grid\n"
+    pgp << "set terminal pngcairo size 860,560 noenhanced\nset output 'pareto.png'\nset logscale xy\nset grid\nset format x '1e%L'\nset format y '1e%L'\n"
         << "set xlabel 'online time per answer [s] (median)'\nset ylabel 'error: larger of the median |relative errors| in L*f, H*f'\n"
         << "set title 'Collapse: time against error, " << held.size() << " held-out runs (reference drawn at " << floor << ")'\n"
         << "set offsets graph 0.1, graph 0.3, graph 0.2, graph 0.2\nset key bottom left\n"
