@@ -50,15 +50,18 @@ std::vector<FormulationVariant> formulationPreset(const std::string& name) {
         out.push_back({"whatif-rho+50-mus-10", {{"rho", 1.5}, {"mu_s", 0.9}}, 0.25, +1});
         out.push_back({"whatif-rho+50-mus-32", {{"rho", 1.5}, {"mu_s", 0.68}}, -0.08, -1});
     }
-    if (name == "fig7-signs" || name == "all") {
-        // Its Fig. 7: M rises with mu_s, mu_d, d and rho, falls with I0.
+    if (name == "fig7-signs" || name == "all" || name == "fig7") {
+        // Its Fig. 7: M rises with mu_s, mu_d, d and rho, falls with I0. fig7 runs six factors per
+        // parameter, as the paper does; fig7-signs the two at +-20% (the same runs).
+        const std::vector<int> steps = name == "fig7" ? std::vector<int>{-30, -20, -10, 10, 20, 30} : std::vector<int>{-20, 20};
         for (const char* k : kKeys) {
             const int sign = std::string(k) == "i0" ? -1 : +1;
-            out.push_back({std::string(k) + "-20", {{k, 0.8}}, std::nullopt, -sign});
-            out.push_back({std::string(k) + "+20", {{k, 1.2}}, std::nullopt, sign});
+            for (int p : steps)
+                out.push_back({std::string(k) + (p > 0 ? "+" : "") + std::to_string(p), {{k, 1 + p / 100.0}}, std::nullopt,
+                               p > 0 ? sign : -sign});
         }
     }
-    if (out.empty()) throw InputError("preset", name, "paper-whatifs | fig7-signs | all");
+    if (out.empty()) throw InputError("preset", name, "paper-whatifs | fig7-signs | fig7 | all");
     return out;
 }
 
@@ -99,6 +102,75 @@ scene::MixerScene applyVariant(scene::MixerScene s, const FormulationVariant& v)
     }
     return s;
 }
+
+nlohmann::json fig7Fit(const nlohmann::json& rows) {
+    nlohmann::json params = nlohmann::json::array();
+    for (const char* k : kKeys) {
+        std::vector<std::pair<double, double>> pts{{1.0, 1.0}};
+        int sign = 0;
+        for (const auto& r : rows) {
+            if (r["factors"].size() != 1 || !r["factors"].contains(k)) continue;
+            const double f = r["factors"][k].get<double>();
+            sign = (f > 1 ? 1 : -1) * r["sign_paper"].get<int>();
+            if (!r.contains("change_model")) continue;  // not steady: no point
+            pts.push_back({f, 1 + r["change_model"].get<double>()});
+        }
+        if (pts.size() < 2) continue;
+        double sx = 0, sy = 0, sxx = 0, sxy = 0;
+        for (const auto& [x, y] : pts) sx += x, sy += y, sxx += x * x, sxy += x * y;
+        const double n = static_cast<double>(pts.size());
+        const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx), icpt = (sy - slope * sx) / n;
+        const std::string verdict = sign == 0 ? "no expectation" : (slope > 0 ? 1 : -1) == sign ? "same sign" : "opposite sign";
+        params.push_back({{"parameter", k}, {"steady_runs", pts.size() - 1}, {"slope", slope}, {"intercept", icpt},
+                          {"sign_paper", sign}, {"verdict", verdict}, {"points", pts}});
+    }
+    return params;
+}
+
+namespace {
+
+// The paper's Fig. 7 from the study's one-parameter variants: per parameter, M / M_reference
+// against the parameter / its reference value (the reference as the point (1, 1)), a least-squares
+// line through the points, its slope (the elasticity of M) and its sign against the paper's.
+nlohmann::json writeFig7(const fs::path& out, const nlohmann::json& rows, double m0) {
+    const nlohmann::json params = fig7Fit(rows);
+    nlohmann::json j{{"parameters", params}, {"reference_loading_kg", m0}};
+    if (params.empty()) return j;
+    std::ostringstream md, csv, dat, gp;
+    md << "| parameter | steady runs | slope d(M/M0)/d(x/x0) | paper's sign | verdict |\n|---|---|---|---|---|\n";
+    csv << "parameter,factor,m_over_m0\n";
+    gp << "set terminal pngcairo size 900,600 noenhanced\nset output 'fig7.png'\nset grid\nset key top left\n"
+       << "set xlabel 'parameter / its reference value'\nset ylabel 'M / M_reference'\n"
+       << "set title 'Fig. 7 on the calibrated scene: full runs, linear fit per parameter'\nplot ";
+    for (size_t b = 0; b < params.size(); ++b) {
+        const auto& p = params[b];
+        const std::string k = p["parameter"];
+        const int sign = p["sign_paper"];
+        md << "| " << k << " | " << p["steady_runs"] << " | " << std::round(p["slope"].get<double>() * 1000) / 1000 << " | "
+           << (sign > 0 ? "rises" : sign < 0 ? "falls" : "-") << " | " << p["verdict"].get<std::string>() << " |\n";
+        for (const auto& xy : p["points"]) {
+            csv << k << ',' << xy[0] << ',' << xy[1] << '\n';
+            dat << xy[0] << ' ' << xy[1] << '\n';
+        }
+        dat << "\n\n";
+        gp << (b ? ", " : "") << "'fig7.dat' index " << b << " with points pt " << 5 + 2 * b << " ps 1.5 lc " << b + 1
+           << " title '" << k << "', " << p["intercept"].get<double>() << " + " << p["slope"].get<double>()
+           << " * x with lines lc " << b + 1 << " notitle";
+    }
+    md << "\nM0 = " << m0 << " kg. A parameter's line is fitted through the reference and its steady variants; the "
+          "paper's Fig. 7 has M rising with mu_s, mu_d, d and rho and falling with I0.\n";
+    writeFileAtomic(out / "fig7.md", md.str());
+    writeFileAtomic(out / "fig7.csv", csv.str());
+    writeFileAtomic(out / "fig7.dat", dat.str());
+    gp << '\n';
+    const std::string warn = runGnuplot(out, "fig7.gp", gp.str());
+    j["table_md"] = (out / "fig7.md").string();
+    j["plot"] = warn.empty() ? (out / "fig7.png").string() : "";
+    if (!warn.empty()) j["plot_warning"] = warn;
+    return j;
+}
+
+}  // namespace
 
 nlohmann::json runFormulationStudy(const FormulationStudy& study) {
     // Every scene is valid before the first run starts.
@@ -190,6 +262,7 @@ nlohmann::json runFormulationStudy(const FormulationStudy& study) {
     for (auto it = ref.begin(); it != ref.end(); ++it)
         if (it.key() != "history") result["reference"][it.key()] = it.value();
     if (!warn.empty()) result["plot_warning"] = warn;
+    if (refOk) result["fig7"] = writeFig7(study.out, rows, m0);
     writeFileAtomic(study.out / "study.json", result.dump(2));
     return result;
 }

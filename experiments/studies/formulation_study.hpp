@@ -45,8 +45,15 @@ struct FormulationStudy {
     std::filesystem::path warmFrom;
 };
 
+// The paper's Fig. 7 from a study's rows (variant rows with factors, sign_paper and, when steady,
+// change_model): per parameter changed alone, M / M_reference against the parameter / its
+// reference value with the reference as (1, 1), a least-squares line, its slope (the elasticity of
+// M) and whether its sign is the paper's. Parameters without a steady variant are left out.
+nlohmann::json fig7Fit(const nlohmann::json& rows);
+
 // Runs the reference and every variant (resumable, shared run store) and writes <out>/table.md,
-// table.csv, formulation.png (model against paper, relative change of M) and study.json.
+// table.csv, formulation.png (model against paper, relative change of M), study.json and, from the
+// one-parameter variants that are steady, fig7.md, .csv and .png.
 nlohmann::json runFormulationStudy(const FormulationStudy& study);
 
 }  // namespace mixload::experiments

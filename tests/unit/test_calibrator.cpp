@@ -10,6 +10,7 @@
 #include "calibrate/calibrator.hpp"
 #include "bench/rom_bench.hpp"
 #include "calibrate/mixer_calibration.hpp"
+#include "studies/formulation_study.hpp"
 #include "common/input_error.hpp"
 
 using namespace mixload::experiments;
@@ -151,4 +152,27 @@ TEST(ParetoFront, KeepsOnlyMethodsNoOtherBeatsOnBoth) {
     EXPECT_FALSE(ms[2].front);  // coarse is faster and better
     EXPECT_TRUE(ms[3].front);   // fastest
     EXPECT_TRUE(ms[4].front);
+}
+
+TEST(Fig7, FitsOneLinePerParameterThroughTheReference) {
+    // mu_s at 0.8 and 1.2 with M falling as mu_s rises (this model's finding), I0 with M falling as
+    // I0 rises (the paper's sign), d not steady yet, a two-parameter what-if ignored.
+    const nlohmann::json rows = nlohmann::json::array({
+        {{"factors", {{"mu_s", 0.8}}}, {"sign_paper", -1}, {"change_model", 0.079}},
+        {{"factors", {{"mu_s", 1.2}}}, {"sign_paper", 1}, {"change_model", -0.095}},
+        {{"factors", {{"i0", 1.2}}}, {"sign_paper", -1}, {"change_model", -0.05}},
+        {{"factors", {{"d", 0.8}}}, {"sign_paper", -1}},
+        {{"factors", {{"rho", 1.5}, {"mu_s", 0.9}}}, {"sign_paper", 1}, {"change_model", 0.5}},
+    });
+    const auto p = mixload::experiments::fig7Fit(rows);
+    ASSERT_EQ(p.size(), 2u);
+    EXPECT_EQ(p[0]["parameter"], "mu_s");
+    EXPECT_EQ(p[0]["steady_runs"], 2);
+    // Least squares through (0.8, 1.079), (1, 1), (1.2, 0.905): slope (0.905 - 1.079) / 0.4.
+    EXPECT_NEAR(p[0]["slope"].get<double>(), (0.905 - 1.079) / 0.4, 1e-12);
+    EXPECT_EQ(p[0]["sign_paper"], 1);
+    EXPECT_EQ(p[0]["verdict"], "opposite sign");
+    EXPECT_EQ(p[1]["parameter"], "i0");
+    EXPECT_NEAR(p[1]["slope"].get<double>(), -0.25, 1e-12);
+    EXPECT_EQ(p[1]["verdict"], "same sign");
 }
