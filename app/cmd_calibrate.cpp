@@ -90,7 +90,7 @@ void addCalibrateCollapse(CLI::App* top, Action& action) {
         ->capture_default_str();
     cmd->add_option("--jobs", o->jobs, "Runs at a time within an evaluation")->capture_default_str();
     cmd->add_option("--check-aspect", o->checkAspect,
-                    "Run the best fit at this aspect too (0: no), unless the data holds it: does it keep its height?")
+                    "The best fit at this aspect too (0: no; from the fit's own run when the data holds it): does it keep its height?")
         ->capture_default_str();
     cmd->add_option("--max-hours", o->maxHours, "Stop after this many hours (0: no limit); run again to continue")
         ->capture_default_str();

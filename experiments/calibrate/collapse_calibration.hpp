@@ -32,8 +32,8 @@ struct CollapseCalibration {
     // InputError otherwise).
     std::function<scene::CollapseScene(const std::map<std::string, double>&, double aspect)> sceneFor;
     CalibrationOptions fit;
-    // After the fit, the best coefficients are also run at this aspect (0: none) unless the data
-    // holds it: does a squat column keep its height (H*f = 1)?
+    // After the fit, the best coefficients at this aspect (0: none; a run of the fit when the data
+    // holds it, else one more run): does a squat column keep its height (H*f = 1)?
     double checkAspect = 0.5;
     int jobs = 1;
     double maxHours = 0;
