@@ -205,3 +205,33 @@ TEST(StressCli, FaultsAndSurrogatesEndWithoutASilentFailure) {
     EXPECT_GE(j["clear_errors"].get<int>(), 6);
     EXPECT_TRUE(fs::exists(dir / "stress.md"));
 }
+
+// The silent failures `mixload stress` found, each kept fixed by a test of its own.
+TEST(StressCli, ACollapseThatLosesPowderIsRefusedNotReported) {
+    // mu_s 0.1: the powder outruns the domain sized for it and leaves through the open side.
+    const fs::path dir = scratchDir("stress-lost-powder");
+    const auto r = runMixload({"collapse", "--material", "quartz", "--cells-per-length", "8", "--aspect", "1", "--mu-s",
+                               "0.1", "--mu-d", "0.4", "--out", (dir / "run").string(), "--json"});
+    EXPECT_EQ(r.rc, 1) << r.err;
+    EXPECT_NE(r.err.find("powder volume changed"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("open right side"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "run" / "result.json"));
+}
+
+TEST(StressCli, AMeshWithoutAnInletFaceIsRefusedBeforeTheSolver) {
+    // At 3 cm the feed inlet has no face; the solver used to die of a floating-point exception.
+    const fs::path dir = scratchDir("stress-no-inlet");
+    const auto r = runMixload({"mixer", "--scene", "gcm250-v2", "--cell-size", "0.03", "--end-time", "0.1", "--out",
+                               (dir / "run").string(), "--json"});
+    EXPECT_EQ(r.rc, 1) << r.err;
+    EXPECT_NE(r.err.find("no face on the inlet patch"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "run"));
+    // A campaign whose runs fail that way says so on stderr, with --json too.
+    ASSERT_EQ(runMixload({"campaign", "create", "c", "--ranges", MIXLOAD_SOURCE_DIR "/data/campaigns/mixer-v2-ranges.toml", "--n",
+                          "2", "--cell-size", "0.03", "--end-time", "0.1", "--dir", dir.string()})
+                  .rc,
+              0);
+    const auto c = runMixload({"campaign", "run", "c", "--dir", dir.string(), "--json"});
+    EXPECT_EQ(c.rc, 1);
+    EXPECT_NE(c.err.find("runs failed"), std::string::npos) << c.err;
+}
