@@ -394,6 +394,7 @@ void addRom(CLI::App& app, Action& action) {
         double muS = 0, muD = 0, i0 = 0, endTstar = 8;
         int perTstar = 20;
         std::string fields;
+        bool extrapolate = false;
     };
     auto ro = std::make_shared<RunCmd>();
     auto* run = cmd->add_subcommand("run", "Predict a collapse with a model file: L*(t), H*(t), L*f and H*f at new mu(I) coefficients");
@@ -404,10 +405,13 @@ void addRom(CLI::App& app, Action& action) {
     run->add_option("--end-tstar", ro->endTstar, "Simulated time, in t*")->capture_default_str();
     run->add_option("--writes-per-tstar", ro->perTstar, "Output times per t*")->capture_default_str();
     run->add_option("--fields", ro->fields, "Also write the model's alpha and U at the output times to this snapshot file (.h5, with .xmf)");
+    run->add_flag("--extrapolate", ro->extrapolate,
+                  "Answer even far outside the training runs' coefficients (by default refused beyond a quarter of their range)");
     ro->add(run, false);
     run->callback([&action, ro] {
         action = [ro] {
             const auto model = ro->apply(rom::readCollapseModel(ro->model));
+            if (!ro->extrapolate && ro->muD > ro->muS) rom::requireNearTraining(model, ro->muS, ro->muD, ro->i0);
             rom::CollapseTrajectory tr;
             auto j = rom::predictCollapse(model, ro->muS, ro->muD, ro->i0, ro->endTstar, ro->perTstar, &tr);
             if (!ro->fields.empty()) {

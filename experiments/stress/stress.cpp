@@ -236,6 +236,21 @@ std::vector<StressCase> stressCases() {
         };
         cs.push_back(c);
     }
+    // The reduced model far outside its training runs: a POD-Galerkin collapse model built on one
+    // run of quartz, asked for mu_s 3 (staging: the run, its float64 snapshots, the model).
+    {
+        StressCase c{"surrogates", "rom-far-outside", "the POD-Galerkin model at mu_s 3, trained on mu_s 1.33 (must be refused)", true,
+                     {{{"collapse", "--material", "quartz", "--cells-per-length", "8", "--aspect", "2", "--writes-per-tstar",
+                        "20", "--out", "{dir}/run", "--json"}},
+                      {{"snapshots", "export", "{dir}/run", "-o", "{dir}/s.h5", "--fields", "alpha,U,p,phi", "--float64"}},
+                      {{"rom", "build", "{dir}/s.h5", "-o", "{dir}/m.h5", "--modes", "4"}},
+                      {{"rom", "run", "{dir}/m.h5", "--mu-s", "3", "--mu-d", "3.5", "--i0", "0.3", "--json"}}},
+                     {},
+                     {},
+                     [](const StressOutcome&, const fs::path&) { return std::string("answered far outside its training"); },
+                     {}};
+        cs.push_back(c);
+    }
     // Surrogates far outside their box.
     cs.push_back(predictCase("feed-500", "feed 500 kg/h, trained up to 45 (must be refused)", {"--feed-kg-h", "500"}));
     cs.push_back(predictCase("feed-500-extrapolate", "feed 500 kg/h with --extrapolate: M and interval >= 0",

@@ -156,6 +156,29 @@ nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::Snapsho
             {"times", rows}};
 }
 
+void requireNearTraining(const CollapseGalerkin& rom, double muS, double muD, double i0) {
+    const std::pair<const char*, double> asked[] = {{"mu_s", muS}, {"mu_d", muD}, {"i0", i0}};
+    for (const auto& [key, v] : asked) {
+        double lo = HUGE_VAL, hi = -HUGE_VAL;
+        for (const auto& s : rom.sources) {
+            const double x = s.value(key, NAN);
+            if (std::isnan(x)) continue;
+            lo = std::min(lo, x), hi = std::max(hi, x);
+        }
+        if (!(hi >= lo)) continue;  // a model file without its sources' coefficients
+        const double margin = std::max(0.25 * (hi - lo), 0.05 * std::max(std::abs(lo), std::abs(hi)));
+        if (v < lo - margin || v > hi + margin) {
+            std::string flag = key;
+            std::replace(flag.begin(), flag.end(), '_', '-');
+            throw InputError(flag, formatNumber(v),
+                             "within " + formatNumber(lo - margin) + " .. " + formatNumber(hi + margin) +
+                                 " (the model's training runs span " + formatNumber(lo) + " .. " + formatNumber(hi) +
+                                 "; a quarter of that range, at least 5%, beyond it); run the full model there, or "
+                                 "pass --extrapolate");
+        }
+    }
+}
+
 nlohmann::json predictCollapse(const CollapseGalerkin& built, double muS, double muD, double i0, double endTstar,
                                int perTstar, CollapseTrajectory* trajectory) {
     if (!(muS > 0)) throw InputError("mu-s", std::to_string(muS), "> 0");

@@ -16,6 +16,11 @@ namespace mixload::rom {
 // pressure (the model's and the lithostatic closure's on the stored fields), and the costs.
 nlohmann::json checkCollapse(const CollapseGalerkin& rom, const store::SnapshotFile& run);
 
+// Refuses (InputError naming the coefficient) mu(I) coefficients farther outside the training runs'
+// range than a quarter of that range (at least 5% of the value, so that a one-run model still
+// answers near its run): a reduced model is an interpolant, as the surrogates are.
+void requireNearTraining(const CollapseGalerkin& rom, double muS, double muD, double i0);
+
 // A prediction: the model from rest with these mu(I) coefficients (as the solver reads them) to
 // endTstar, L*(t), H*(t) and the kinetic energy at `perTstar` times per t*, and L*f and H*f.
 // trajectory, when given, receives the model's fields at those times.

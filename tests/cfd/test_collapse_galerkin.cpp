@@ -148,6 +148,11 @@ TEST(CollapseGalerkin, RefusesBadOptions) {
     const auto r = runMixload({"rom", "run", model.string(), "--mu-s", "1.3", "--mu-d", "1.2", "--i0", "0.3"});
     EXPECT_EQ(r.rc, 2);
     EXPECT_NE(r.err.find("mu-d"), std::string::npos) << r.err;
+    // Far outside its one training run (mu_s 1.33): refused, naming the coefficient and the way out.
+    const auto far = runMixload({"rom", "run", model.string(), "--mu-s", "2.5", "--mu-d", "2.9", "--i0", "0.3"});
+    EXPECT_EQ(far.rc, 2);
+    EXPECT_NE(far.err.find("mu-s"), std::string::npos) << far.err;
+    EXPECT_NE(far.err.find("--extrapolate"), std::string::npos) << far.err;
     // A snapshot file is not a model file, and a truncated model file is refused by name.
     const auto notModel = runMixload({"rom", "check", h5.string(), h5.string()});
     EXPECT_EQ(notModel.rc, 2);
