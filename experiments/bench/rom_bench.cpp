@@ -38,15 +38,22 @@ struct FullRun {
 };
 
 // A full run with the writes a reduced model needs, and its float64 snapshots with the flux.
-FullRun fullRun(const RomBench& b, const CollapsePoint& p, const std::string& name) {
+// The base collapse at a point's coefficients, on the base mesh or another.
+run::CollapseJob jobAt(const RomBench& b, const CollapsePoint& p, const std::string& name, int cells, int writesPerTstar) {
     scene::CollapseOverrides o = b.base;
     o.muS = p.muS;
     o.muD = p.muD;
     o.I0 = p.i0;
-    o.writesPerTstar = 20;
+    o.cellsPerLength = cells;
+    o.writesPerTstar = writesPerTstar;
     run::CollapseJob job;
     job.scene = o.scene();
     job.out = b.out / "runs" / name;
+    return job;
+}
+
+FullRun fullRun(const RomBench& b, const CollapsePoint& p, const std::string& name) {
+    const auto job = jobAt(b, p, name, b.base.cellsPerLength, 20);
     FullRun r{p, run::runCollapse(job), job.out / "snapshots.h5", 0};
     if (!fs::exists(r.snapshots)) {
         const auto t0 = Clock::now();
@@ -69,15 +76,7 @@ std::string label(const CollapsePoint& p) {
 
 // One held-out point on a coarser mesh: the full model's cheap answer (no snapshots).
 nlohmann::json coarseRun(const RomBench& b, const CollapsePoint& p, int cells, const std::string& name) {
-    scene::CollapseOverrides o = b.base;
-    o.muS = p.muS;
-    o.muD = p.muD;
-    o.I0 = p.i0;
-    o.cellsPerLength = cells;
-    run::CollapseJob job;
-    job.scene = o.scene();
-    job.out = b.out / "runs" / name;
-    return run::runCollapse(job);
+    return run::runCollapse(jobAt(b, p, name, cells, b.base.writesPerTstar));
 }
 
 std::string paretoTable(const std::vector<ParetoMethod>& ms) {

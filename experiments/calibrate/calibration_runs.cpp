@@ -133,6 +133,11 @@ FitOutcome runFit(const std::string& name, const std::vector<CalibrationBound>& 
     return out;
 }
 
+void requireCalibrationName(const std::string& name) {
+    if (name.empty() || name.find_first_of("/\\ ") != std::string::npos)
+        throw InputError("name", name, "a non-empty name without '/', '\\' or blanks");
+}
+
 double roundSignificant(double v, int digits) {
     char b[32];
     std::snprintf(b, sizeof b, "%.*g", digits, v);

@@ -75,6 +75,9 @@ FitOutcome runFit(const std::string& name, const std::vector<CalibrationBound>& 
                   const CalibrationOptions& opt, bool progressLine,
                   const std::function<void(const CalibrationTrace&)>& progress);
 
+// A calibration's name is a directory under --dir: InputError unless it is one plain path segment.
+void requireCalibrationName(const std::string& name);
+
 // v as the nearest number with that many significant digits prints: a scene built from it, and its
 // hash, do not depend on how the arithmetic before it rounded (0.14 + 0.025 against 0.14 + 0.25 * 0.1).
 double roundSignificant(double v, int digits);

@@ -126,6 +126,7 @@ public:
                          {"git_commit", kGitCommit}};
         if (!evals.empty()) {
             j["best"] = evals[t.best];
+            j["best_evaluation"] = t.best;
             double m = 0;
             for (double v : t.r[t.best]) m = std::max(m, std::abs(v));
             j["best_max_residual"] = m;
@@ -272,10 +273,7 @@ void Driver::writeReport(const nlohmann::json& j) const {
     };
     if (j.contains("best")) {
         const auto& b = j["best"];
-        md << "\n## Best fit (evaluation";
-        for (size_t i = 0; i < evals.size(); ++i)
-            if (evals[i] == b) md << ' ' << i;
-        md << ")\n\n";
+        md << "\n## Best fit (evaluation " << j["best_evaluation"] << ")\n\n";
         std::string sep;
         for (const auto& [k, v] : b["keys"].items()) md << sep << k << " = " << sig4(v.get<double>()), sep = ", ";
         md << "; rms residual " << sig4(b["rms"].get<double>()) << ".\n\n| a | L*f data | L*f model | residual | H*f data | H*f model | residual | stopped by | powder volume error |\n"
@@ -342,8 +340,7 @@ void Driver::writeReport(const nlohmann::json& j) const {
 }  // namespace
 
 void validateCollapseCalibration(const CollapseCalibration& c) {
-    if (c.name.empty() || c.name.find_first_of("/\\ ") != std::string::npos)
-        throw InputError("name", c.name, "a non-empty name without '/', '\\' or blanks");
+    requireCalibrationName(c.name);
     if (c.params.empty()) throw InputError("param", "<none>", "at least one --param KEY=LO:HI (mu_s, mu_d, delta_mu, i0, cap_h_ratio, eta_max)");
     if (c.data.points.empty()) throw InputError("data", "<none>", "--data FILE or --law NAME");
     requireRange("max-evals", c.fit.maxEvals, 1, 200);

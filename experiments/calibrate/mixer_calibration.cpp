@@ -279,8 +279,7 @@ LoadingTarget parseLoadingTarget(const std::string& text) {
 }
 
 void validateCalibration(const MixerCalibration& c) {
-    if (c.name.empty() || c.name.find_first_of("/\\ ") != std::string::npos)
-        throw InputError("name", c.name, "a non-empty name without '/', '\\' or blanks");
+    requireCalibrationName(c.name);
     if (c.params.empty()) throw InputError("param", "<none>", "at least one --param TABLE.KEY=LO:HI");
     if (c.targets.empty()) throw InputError("target", "<none>", "at least one --target RPM:FEED:LOADING");
     requireRange("max-evals", c.fit.maxEvals, 1, 200);

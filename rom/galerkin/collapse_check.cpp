@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/input_error.hpp"
+#include "model.hpp"
 #include "rom/operators/alpha_transport.hpp"
 #include "rom/operators/fv_operators.hpp"
 
@@ -166,7 +167,7 @@ void requireNearTraining(const CollapseGalerkin& rom, double muS, double muD, do
             lo = std::min(lo, x), hi = std::max(hi, x);
         }
         if (!(hi >= lo)) continue;  // a model file without its sources' coefficients
-        const double margin = std::max(0.25 * (hi - lo), 0.05 * std::max(std::abs(lo), std::abs(hi)));
+        const double margin = std::max(surrogates::kMaxExtrapolation * (hi - lo), 0.05 * std::max(std::abs(lo), std::abs(hi)));
         if (v < lo - margin || v > hi + margin) {
             std::string flag = key;
             std::replace(flag.begin(), flag.end(), '_', '-');
