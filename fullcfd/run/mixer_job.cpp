@@ -102,6 +102,10 @@ nlohmann::json runMixer(const MixerJob& job) {
     const auto& s = job.scene;
     s.validate();
     requireRange("np", job.np, 1, 256);
+    // The sliding mesh's fragment transport (fullcfd/solver/fragmentAMI.H) keeps its fragments
+    // on one process.
+    if (s.method == "sm" && job.np > 1)
+        throw InputError("np", std::to_string(job.np), "1 with --method sm (the sliding mesh runs serially)");
     if (!job.warmFrom.empty()) warmSourceTime(job.warmFrom);
     const fs::path dir = fs::absolute(job.out.empty() ? defaultMixerDir(s, job.np) : job.out);
     const RunDirLock lock(dir);

@@ -115,6 +115,10 @@ std::string MixerScene::meshLabel() const {
            (method != "sm" && mesher == "snappy" ? " snappy" : "");
 }
 
+double MixerScene::courantLimit() const {
+    return method == "sm" ? std::min(maxCourant, kSlidingMeshMaxCourant) : maxCourant;
+}
+
 void MixerScene::validate() const {
     geometry.validate();
     requireRange("max-courant", maxCourant, 0.01, 5.0);
@@ -231,6 +235,9 @@ nlohmann::json MixerScene::toJson() const {
             {"gravity_m_s2", gravity}};
     // Only a non-default limit enters the record, so hashes of existing runs stay valid.
     if (maxCourant != MixerScene{}.maxCourant) j["max_courant"] = maxCourant;
+    // Sliding-mesh runs before the fragment transport lost powder across the AMI: a new key keeps
+    // their results from being taken for today's.
+    if (method == "sm") j["sm_transport"] = "fragments";
     // Runs before the numerics presets used the legacy settings and carry no key: theirs stay
     // valid. The values enter the record, not the preset's name.
     if (!numerics.sameSettings(MixerNumerics::named("legacy")))

@@ -8,7 +8,11 @@
 //  - PIMPLE `courantAlphaMin`: the flow and interface Courant numbers that set the time step are
 //    taken over cells holding at least this powder fraction (0, the default: every cell, as stock).
 //    In the mixer the time step was set by air moving at five times the paddle-tip speed in thin
-//    end layers (README, "Cost of a steady point"); the powder carries the answer.
+//    end layers (README, "Cost of a steady point"); the powder carries the answer;
+//  - PIMPLE `fragmentAMI`: the sliding mesh's AMI pairs carry one flux per overlap fragment, in
+//    the pressure and powder equations and in the time step (fragmentAMI.H), so that powder is
+//    conserved across a non-conformal interface; pEqn.H, correctPhi.H and alphaEqn.H here are
+//    v1912's with that switch added.
 // Everything else (schemes, MULES, PIMPLE, MRF, mesh motion) is the stock solver's.
 
 #include "fvCFD.H"
@@ -25,6 +29,7 @@
 #include "CorrectPhi.H"
 #include "fvcSmooth.H"
 #include "profiling.H"
+#include "fragmentAMI.H"
 
 int main(int argc, char *argv[])
 {
@@ -49,6 +54,8 @@ int main(int argc, char *argv[])
 
     turbulence->validate();
 
+    Foam::fragmentAMI::Coupling fragments(mesh, pimple.dict(), correctPhi);
+
     if (!LTS)
     {
         #include "powderCourantNo.H"
@@ -68,6 +75,17 @@ int main(int argc, char *argv[])
         else
         {
             #include "powderCourantNo.H"
+            if (fragments.active())
+            {
+                const scalar fragmentCo = fragments.courant
+                (
+                    phi, runTime.deltaTValue(), alpha1, courantAlphaMin
+                );
+                Info<< "Fragment Courant Number (next to the AMI pairs) max: " << fragmentCo
+                    << endl;
+                CoNum = max(CoNum, fragmentCo);
+                alphaCoNum = max(alphaCoNum, fragmentCo);
+            }
             #include "setDeltaT.H"
         }
 

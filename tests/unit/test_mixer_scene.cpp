@@ -2,9 +2,14 @@
 // The mixer scene: shipped file, validation of impossible geometry, generated surfaces, initial bed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <numbers>
 
+#include "cases/mixer3d.hpp"
 #include "cases/mixer_geometry.hpp"
 #include "common/input_error.hpp"
 #include "scene/mixer_scene.hpp"
@@ -217,4 +222,37 @@ TEST(MixerScene, TheSteadyTestCanBelongToTheScene) {
     expectInvalid("[steady]\ntol = 0.9\n", "steady-tol");
     // Without the table the defaults, and the shipped scene's hash, stay.
     EXPECT_DOUBLE_EQ(parse("").endTime, MixerScene{}.endTime);
+}
+
+TEST(MixerScene, SlidingMeshRunsTheFragmentTransport) {
+    // Issue 17: sm cases carry their AMI pairs per overlap fragment, on the explicit MULES path
+    // with one corrector and a Courant limit of at most 0.5; the record says so, so that results of
+    // the leaking sm are not taken for today's. MRF cases are unchanged.
+    auto mrf = parse("");
+    auto sm = mrf;
+    sm.method = "sm";
+    EXPECT_FALSE(mrf.toJson().contains("sm_transport"));
+    EXPECT_EQ(sm.toJson()["sm_transport"], "fragments");
+    EXPECT_DOUBLE_EQ(mrf.courantLimit(), mrf.maxCourant);
+    EXPECT_DOUBLE_EQ(sm.courantLimit(), std::min(sm.maxCourant, scene::kSlidingMeshMaxCourant));
+    sm.maxCourant = 0.25;
+    EXPECT_DOUBLE_EQ(sm.courantLimit(), 0.25);
+
+    const auto read = [](const std::filesystem::path& f) {
+        std::ifstream in(f);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    const auto dir = std::filesystem::temp_directory_path() / "mixload-unit-sm-case";
+    std::filesystem::remove_all(dir);
+    cases::writeMixerMeshCase(sm, dir / "sm", 1);
+    cases::writeMixerMeshCase(mrf, dir / "mrf", 1);
+    const std::string smSol = read(dir / "sm/system/fvSolution");
+    const std::string mrfSol = read(dir / "mrf/system/fvSolution");
+    EXPECT_NE(smSol.find("fragmentAMI yes;"), std::string::npos);
+    EXPECT_NE(smSol.find("MULESCorr no;"), std::string::npos);
+    EXPECT_NE(smSol.find("nAlphaCorr 1;"), std::string::npos);
+    EXPECT_EQ(mrfSol.find("fragmentAMI"), std::string::npos);
+    EXPECT_NE(mrfSol.find("MULESCorr yes;"), std::string::npos);
+    EXPECT_NE(read(dir / "sm/system/controlDict").find("maxCo 0.25;"), std::string::npos);
+    std::filesystem::remove_all(dir);
 }
