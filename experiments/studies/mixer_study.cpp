@@ -13,6 +13,7 @@
 #include "common/input_error.hpp"
 #include "run/foam_runner.hpp"
 #include "run/mixer_job.hpp"
+#include "studies/methods_comparison.hpp"
 #include "studies/run_pool.hpp"
 
 namespace mixload::experiments {
@@ -215,6 +216,13 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
                              {"histories_plot", hwarn.empty() ? (study.out / "histories.png").string() : ""}};
     if (!warn.empty()) result["plot_warning"] = warn;
     if (!hwarn.empty()) result["histories_plot_warning"] = hwarn;
+    // A study with both mrf and sm at the same points also writes the paper's comparison.
+    if (const auto pairs = compareMethods(rows); !pairs.empty()) {
+        const std::string mwarn = writeMethodsComparison(study.out, pairs);
+        result["methods"] = pairs;
+        result["methods_md"] = (study.out / "methods.md").string();
+        if (!mwarn.empty()) result["methods_plot_warning"] = mwarn;
+    }
     writeFileAtomic(study.out / "study.json", result.dump(2));
     return result;
 }

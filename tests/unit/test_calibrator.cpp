@@ -11,6 +11,7 @@
 #include "bench/rom_bench.hpp"
 #include "calibrate/mixer_calibration.hpp"
 #include "studies/formulation_study.hpp"
+#include "studies/methods_comparison.hpp"
 #include "common/input_error.hpp"
 
 using namespace mixload::experiments;
@@ -175,4 +176,27 @@ TEST(Fig7, FitsOneLinePerParameterThroughTheReference) {
     EXPECT_EQ(p[1]["parameter"], "i0");
     EXPECT_NEAR(p[1]["slope"].get<double>(), -0.25, 1e-12);
     EXPECT_EQ(p[1]["verdict"], "same sign");
+}
+
+TEST(MethodsComparison, PairsMrfWithSmAtTheSamePointOnly) {
+    // Two points with both methods (one of them not steady), one with mrf alone: two entries, the
+    // difference relative to SM, the paper's band checked, costs per simulated second.
+    const auto row = [](const char* m, double feed, double M, bool steady, double wall, double sim) {
+        return nlohmann::json{{"method", m}, {"mesh", "0.02 m"}, {"rpm", 39.0}, {"feed_kg_h", feed},
+                              {"initial_loading_kg", 0.3}, {"loading_kg", M}, {"steady", steady},
+                              {"powder_balance_ok", true}, {"wall_seconds", wall}, {"end_time_s", sim}};
+    };
+    const nlohmann::json rows = {row("mrf", 5, 0.84, true, 100, 50), row("sm", 5, 1.0, true, 600, 50),
+                                 row("mrf", 15, 0.5, true, 80, 40), row("sm", 15, 0.5, false, 900, 30),
+                                 row("mrf", 30, 0.4, true, 70, 40)};
+    const auto p = mixload::experiments::compareMethods(rows);
+    ASSERT_EQ(p.size(), 2u);
+    EXPECT_DOUBLE_EQ(p[0]["feed_kg_h"].get<double>(), 5.0);
+    EXPECT_NEAR(p[0]["mrf_below_sm_percent"].get<double>(), -16.0, 1e-12);
+    EXPECT_TRUE(p[0]["in_paper_band"].get<bool>());
+    EXPECT_TRUE(p[0]["both_results"].get<bool>());
+    EXPECT_DOUBLE_EQ(p[0]["sm_cost"]["wall_per_simulated_s"].get<double>(), 12.0);
+    EXPECT_NEAR(p[1]["mrf_below_sm_percent"].get<double>(), 0.0, 1e-12);
+    EXPECT_FALSE(p[1]["in_paper_band"].get<bool>());
+    EXPECT_FALSE(p[1]["both_results"].get<bool>());
 }
