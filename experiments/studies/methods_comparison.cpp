@@ -10,6 +10,7 @@
 
 #include "common/atomic_file.hpp"
 #include "common/gnuplot.hpp"
+#include "studies/table_cell.hpp"
 
 namespace mixload::experiments {
 
@@ -28,12 +29,6 @@ nlohmann::json costOf(const nlohmann::json& r) {
     return {{"wall_s", wall}, {"wall_per_simulated_s", sim > 0 ? nlohmann::json(wall / sim) : nlohmann::json()}};
 }
 
-std::string fmt(const nlohmann::json& v, const char* f) {
-    if (v.is_null()) return "-";
-    char b[64];
-    std::snprintf(b, sizeof b, f, v.get<double>());
-    return b;
-}
 }  // namespace
 
 nlohmann::json compareMethods(const nlohmann::json& rows) {
@@ -84,11 +79,11 @@ std::string writeMethodsComparison(const fs::path& out, const nlohmann::json& pa
             << p["mrf_below_sm_percent"] << ',' << (ok ? "yes" : "no") << ',' << cm["wall_s"] << ','
             << cs["wall_s"] << ',' << cm["wall_per_simulated_s"] << ',' << cs["wall_per_simulated_s"] << '\n';
         md << "| " << p["mesh"].get<std::string>() << " | " << p["rpm"] << " | " << p["feed_kg_h"] << " | "
-           << fmt(p["mrf_loading_kg"], "%.4f") << " | " << fmt(p["sm_loading_kg"], "%.4f") << " | "
-           << fmt(p["mrf_below_sm_percent"], "%+.1f%%") << " | "
+           << tableCell(p["mrf_loading_kg"], "%.4f") << " | " << tableCell(p["sm_loading_kg"], "%.4f") << " | "
+           << tableCell(p["mrf_below_sm_percent"], "%+.1f%%") << " | "
            << (ok ? "yes" : "no (not steady or not conserved)") << " | "
-           << fmt(cm["wall_per_simulated_s"], "%.1f") << " / " << fmt(cs["wall_per_simulated_s"], "%.1f")
-           << " | " << fmt(cm["wall_s"], "%.0f") << " / " << fmt(cs["wall_s"], "%.0f") << " |\n";
+           << tableCell(cm["wall_per_simulated_s"], "%.1f") << " / " << tableCell(cs["wall_per_simulated_s"], "%.1f")
+           << " | " << tableCell(cm["wall_s"], "%.0f") << " / " << tableCell(cs["wall_s"], "%.0f") << " |\n";
         const double rpm = p["rpm"].get<double>(), feed = p["feed_kg_h"].get<double>();
         maxFeed = std::max(maxFeed, feed);
         loadings[rpm] << feed << ' ' << p["mrf_loading_kg"].get<double>() << ' '

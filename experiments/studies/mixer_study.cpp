@@ -15,6 +15,7 @@
 #include "run/mixer_job.hpp"
 #include "studies/methods_comparison.hpp"
 #include "studies/run_pool.hpp"
+#include "studies/table_cell.hpp"
 
 namespace mixload::experiments {
 
@@ -97,12 +98,6 @@ std::string plotHistories(const fs::path& out, const nlohmann::json& rows,
     return runGnuplot(out, "histories.gp", gp.str());
 }
 
-std::string cell(const nlohmann::json& v, const char* fmt) {
-    if (v.is_null()) return "-";
-    char b[64];
-    std::snprintf(b, sizeof b, fmt, v.get<double>());
-    return b;
-}
 
 }  // namespace
 
@@ -196,14 +191,14 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
             << ',' << r["wall_seconds"] << ',' << r["core_seconds"] << ','
             << (zone.is_null() ? "" : zone.dump()) << ',' << (dense.is_null() ? "" : dense.dump()) << '\n';
         md << "| " << head << " | " << r["cells"] << " | " << r["rpm"] << " | " << r["feed_kg_h"]
-           << " | " << r["initial_loading_kg"] << " | " << cell(r["loading_kg"], "%.4f") << (steady ? "" : " (not steady)")
-           << " | " << cell(r["loading_std_kg"], "%.1e") << " | " << cell(share(zone), "%.0f%%")
-           << " | " << cell(share(dense), "%.0f%%") << " | "
-           << (steady ? cell(r["steady_time_s"], "%.1f") : "-") << " | "
-           << cell(r["outflow_kg_h"], "%.2f") << " | " << cell(leak, "%.3g")
+           << " | " << r["initial_loading_kg"] << " | " << tableCell(r["loading_kg"], "%.4f") << (steady ? "" : " (not steady)")
+           << " | " << tableCell(r["loading_std_kg"], "%.1e") << " | " << tableCell(share(zone), "%.0f%%")
+           << " | " << tableCell(share(dense), "%.0f%%") << " | "
+           << (steady ? tableCell(r["steady_time_s"], "%.1f") : "-") << " | "
+           << tableCell(r["outflow_kg_h"], "%.2f") << " | " << tableCell(leak, "%.3g")
            << (ok.is_null() || ok.get<bool>() ? "" : " (leaks)") << " | "
-           << cell(r["end_time_s"], "%.4g") << (r["method"] == "lts" ? " it" : " s") << " | "
-           << cell(r["wall_seconds"], "%.0f") << " | " << cell(r["core_seconds"], "%.0f") << " |\n";
+           << tableCell(r["end_time_s"], "%.4g") << (r["method"] == "lts" ? " it" : " s") << " | "
+           << tableCell(r["wall_seconds"], "%.0f") << " | " << tableCell(r["core_seconds"], "%.0f") << " |\n";
     }
     writeFileAtomic(study.out / "table.csv", csv.str());
     writeFileAtomic(study.out / "table.md", md.str());
