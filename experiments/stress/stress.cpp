@@ -160,6 +160,17 @@ std::vector<StressCase> stressCases() {
         cs.push_back(c);
     }
     cs.push_back(mixerCase("numerics", "mixer-np-2", "the tiny mixer on two MPI ranks", {"--np", "2"}));
+    // The sliding mesh: its per-fragment AMI transport must conserve powder (the checks' balance),
+    // also with the rotor at 500 rpm; it runs serially and must refuse two ranks before any run.
+    cs.push_back(mixerCase("numerics", "sm", "the sliding mesh", {"--method", "sm"}));
+    cs.push_back(mixerCase("numerics", "sm-rpm-500", "the sliding mesh at 500 rpm", {"--method", "sm", "--rpm", "500"}));
+    {
+        auto c = mixerCase("numerics", "sm-np-2", "the sliding mesh on two MPI ranks (serial only)",
+                           {"--method", "sm", "--np", "2"});
+        c.quick = true;
+        c.check = mustRefuse("the sliding mesh ran on two ranks");
+        cs.push_back(c);
+    }
     // Faults.
     {
         StressCase c = collapseCase("faults", "killed-mid-run", "the run killed (SIGKILL) after 3 s, then run again",
