@@ -253,6 +253,7 @@ TEST(MixerRun, SnappyRestingBedStaysAtRest) {
 
 TEST(MixerCliErrors, BadFlagsAndScenes) {
     expectRejected({"--method", "frozen"}, "invalid method = frozen: allowed mrf|lts|sm");
+    expectRejected({"--method", "sm", "--np", "2"}, "invalid np = 2: allowed 1 with --method sm");
     // The fast preset drops the non-orthogonal corrector, which the castellated mesh needs.
     expectRejected({"--mesher", "snappy"}, "non-orth-correctors");
     expectRejected({"--feed-kg-h", "-5"}, "invalid feed-kg-h = -5");
