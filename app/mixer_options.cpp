@@ -61,6 +61,10 @@ void MixerOptions::add(CLI::App* cmd, bool withMethod) {
         ->group("Numerics");
     cmd->add_option("--max-delta-t", maxDeltaT, "Largest time step [s] (also <= 1/72 revolution)")
         ->group("Numerics");
+    cmd->add_option("--max-courant", maxCourant,
+                    "Flow and interface Courant limit of the time step (1; the sliding mesh uses at "
+                    "most 0.5)")
+        ->group("Numerics");
 }
 
 }  // namespace mixload::app

@@ -172,7 +172,7 @@ bool Foam::functionObjects::loadingMonitor::execute()
                 << " m/s at t = " << t << " s, above the bound of "
                 << maxPowderSpeed_ << " m/s (ten times the paddle tips' speed"
                 << " plus the free-fall speed across the bore). No loading is"
-                << " reported. Rerun with a smaller Courant number (--courant)"
+                << " reported. Rerun with a smaller Courant number (--max-courant)"
                 << " or with every cell counted (--courant-alpha-min 0)."
                 << exit(FatalError);
         }

@@ -45,6 +45,7 @@ MixerScene MixerOverrides::build(const SceneKeys& keys) const {
     if (courantAlphaMin) s.numerics.courantAlphaMin = *courantAlphaMin;
     if (nonOrthCorrectors) s.numerics.nonOrthCorrectors = *nonOrthCorrectors;
     if (maxDeltaT) s.numerics.maxDeltaT = *maxDeltaT;
+    if (maxCourant) s.maxCourant = *maxCourant;
     if (alphaSubCycles) s.numerics.alphaSubCycles = *alphaSubCycles;
     s.validate();
     return s;

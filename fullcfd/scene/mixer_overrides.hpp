@@ -14,7 +14,8 @@ struct MixerOverrides {
     std::string scene = kDefaultMixerScene;
     std::optional<std::string> method, mesh, mesher, rheology, convention, numerics;
     std::optional<double> rpm, feedKgH, muS, muD, I0, d, rho, initialLoadingKg, endTime, cellSize,
-        etaMax, window, residence, tol, flowTol, minTime, airViscosity, courantAlphaMin, maxDeltaT;
+        etaMax, window, residence, tol, flowTol, minTime, airViscosity, courantAlphaMin, maxDeltaT,
+        maxCourant;
     std::optional<int> ltsIterations, nonOrthCorrectors, alphaSubCycles;
     std::vector<std::string> sets;  // TABLE.KEY=VALUE, applied to the scene file
 

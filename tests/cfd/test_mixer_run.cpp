@@ -254,6 +254,7 @@ TEST(MixerRun, SnappyRestingBedStaysAtRest) {
 TEST(MixerCliErrors, BadFlagsAndScenes) {
     expectRejected({"--method", "frozen"}, "invalid method = frozen: allowed mrf|lts|sm");
     expectRejected({"--method", "sm", "--np", "2"}, "invalid np = 2: allowed 1 with --method sm");
+    expectRejected({"--max-courant", "9"}, "invalid max-courant = 9: allowed [0.01, 5]");
     // The fast preset drops the non-orthogonal corrector, which the castellated mesh needs.
     expectRejected({"--mesher", "snappy"}, "non-orth-correctors");
     expectRejected({"--feed-kg-h", "-5"}, "invalid feed-kg-h = -5");
