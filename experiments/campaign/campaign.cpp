@@ -146,7 +146,10 @@ template <class Job, class Scene, class Run>
 nlohmann::json runPoint(Scene s, bool retry, int np, bool snapshots, const fs::path& home, int index,
                         std::optional<std::chrono::steady_clock::time_point> deadline, Run run) {
     if (retry) {
-        s.maxCourant *= 0.5;
+        // Half the limit the first attempt ran with: the sliding mesh caps maxCourant at 0.5, and
+        // halving the scene's 1 would have left it there.
+        if constexpr (requires { s.courantLimit(); }) s.maxCourant = 0.5 * s.courantLimit();
+        else s.maxCourant *= 0.5;
         if constexpr (requires { s.numerics.courantAlphaMin; }) s.numerics.courantAlphaMin = 0;
     }
     Job job;

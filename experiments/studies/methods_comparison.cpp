@@ -10,7 +10,7 @@
 
 #include "common/atomic_file.hpp"
 #include "common/gnuplot.hpp"
-#include "studies/table_cell.hpp"
+#include "studies/study_rows.hpp"
 
 namespace mixload::experiments {
 
@@ -19,10 +19,6 @@ namespace fs = std::filesystem;
 namespace {
 // The paper's MRF loadings lie 14-18% below its sliding-mesh ones (Table 3, eight cases).
 constexpr double kPaperLow = -18.0, kPaperHigh = -14.0;
-
-bool isResult(const nlohmann::json& r) {
-    return r.contains("loading_kg") && r.value("steady", false) && r.value("powder_balance_ok", true);
-}
 
 nlohmann::json costOf(const nlohmann::json& r) {
     const double wall = r.value("wall_seconds", 0.0), sim = r.value("end_time_s", 0.0);

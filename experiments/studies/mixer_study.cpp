@@ -15,7 +15,7 @@
 #include "run/mixer_job.hpp"
 #include "studies/methods_comparison.hpp"
 #include "studies/run_pool.hpp"
-#include "studies/table_cell.hpp"
+#include "studies/study_rows.hpp"
 
 namespace mixload::experiments {
 
@@ -41,7 +41,7 @@ std::string plotStudy(const fs::path& out, const nlohmann::json& rows) {
     const bool withStart = starts.size() > 1;
     for (const auto& r : rows) {
         if (!r.contains("loading_kg")) continue;
-        const bool good = r["steady"].get<bool>() && r.value("powder_balance_ok", true);
+        const bool good = isResult(r);
         byFeed[series(r, "rpm", withStart)] << r["feed_kg_h"].get<double>() << ' ' << r["loading_kg"].get<double>()
                                  << ' ' << (good ? 7 : 6) << '\n';
         byRpm[series(r, "feed", withStart)] << r["rpm"].get<double>() << ' ' << r["loading_kg"].get<double>()

@@ -7,6 +7,12 @@
 
 namespace mixload::experiments {
 
+// A study row that is a result: it has a loading, a steady verdict, and its powder balance
+// closed (rows without a balance, from before it was measured, count as closed).
+inline bool isResult(const nlohmann::json& r) {
+    return r.contains("loading_kg") && r.value("steady", false) && r.value("powder_balance_ok", true);
+}
+
 // A number of a result as a markdown table cell in printf format, "-" when the result has none.
 inline std::string tableCell(const nlohmann::json& v, const char* format) {
     if (v.is_null()) return "-";
