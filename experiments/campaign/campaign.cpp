@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "campaign/driver_lock.hpp"
+#include "campaign/retry.hpp"
 #include "common/atomic_file.hpp"
 #include "common/clock.hpp"
 #include "common/input_error.hpp"
@@ -138,20 +139,12 @@ std::string csvField(const nlohmann::json& v) {
     return v.dump();
 }
 
-// One design point in its own directory <home>/runs/<index>-<scene hash>. A second attempt runs
-// with half the Courant limit, the usual cure for a diverged run, and a mixer's with every cell
-// counted in it: exempting air cells let gcm250-v2 diverge on a 2 cm mesh (README, "A diverged
-// solution stops the run"), and counting them cured it.
+// One design point in its own directory <home>/runs/<index>-<scene hash>; a second attempt runs the
+// retry's scene, which has a hash (and so a directory) of its own.
 template <class Job, class Scene, class Run>
 nlohmann::json runPoint(Scene s, bool retry, int np, bool snapshots, const fs::path& home, int index,
                         std::optional<std::chrono::steady_clock::time_point> deadline, Run run) {
-    if (retry) {
-        // Half the limit the first attempt ran with: the sliding mesh caps maxCourant at 0.5, and
-        // halving the scene's 1 would have left it there.
-        if constexpr (requires { s.courantLimit(); }) s.maxCourant = 0.5 * s.courantLimit();
-        else s.maxCourant *= 0.5;
-        if constexpr (requires { s.numerics.courantAlphaMin; }) s.numerics.courantAlphaMin = 0;
-    }
+    if (retry) s = retryScene(s);
     Job job;
     job.scene = s;
     job.np = np;

@@ -235,9 +235,10 @@ nlohmann::json MixerScene::toJson() const {
             {"gravity_m_s2", gravity}};
     // Only a non-default limit enters the record, so hashes of existing runs stay valid.
     if (maxCourant != MixerScene{}.maxCourant) j["max_courant"] = maxCourant;
-    // Sliding-mesh runs before the fragment transport lost powder across the AMI: a new key keeps
-    // their results from being taken for today's.
-    if (method == "sm") j["sm_transport"] = "fragments";
+    // Sliding-mesh runs before the fragment transport lost powder across the AMI, and those with the
+    // pairs' mean pressure coefficient diverged at 500 rpm: a new value keeps their results from
+    // being taken for today's.
+    if (method == "sm") j["sm_transport"] = "fragments-kmax";
     // Runs before the numerics presets used the legacy settings and carry no key: theirs stay
     // valid. The values enter the record, not the preset's name.
     if (!numerics.sameSettings(MixerNumerics::named("legacy")))

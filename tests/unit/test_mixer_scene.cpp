@@ -232,7 +232,7 @@ TEST(MixerScene, SlidingMeshRunsTheFragmentTransport) {
     auto sm = mrf;
     sm.method = "sm";
     EXPECT_FALSE(mrf.toJson().contains("sm_transport"));
-    EXPECT_EQ(sm.toJson()["sm_transport"], "fragments");
+    EXPECT_EQ(sm.toJson()["sm_transport"], "fragments-kmax");
     EXPECT_DOUBLE_EQ(mrf.courantLimit(), mrf.maxCourant);
     EXPECT_DOUBLE_EQ(sm.courantLimit(), std::min(sm.maxCourant, scene::kSlidingMeshMaxCourant));
     sm.maxCourant = 0.25;
