@@ -46,6 +46,7 @@ struct MixerStudyCmd {
     std::string runs;
     int jobs = 1;
     int np = 1;
+    bool smFromMrf = false;
     bool json = false;
 };
 struct FormulationCmd {
@@ -124,6 +125,9 @@ void addStudy(CLI::App& app, Action& action) {
     mx->add_option("--runs", mo->runs, "Run store shared between studies (default <out>/runs)");
     mx->add_option("--jobs", mo->jobs, "Concurrent runs")->capture_default_str();
     mx->add_option("--np", mo->np, "MPI ranks per run")->capture_default_str();
+    mx->add_flag("--sm-from-mrf", mo->smFromMrf,
+                 "Start each sm run from the latest fields of the MRF run at its point (run first) instead of "
+                 "the deposit");
     mx->add_flag("--json", mo->json, "Print JSON");
     mx->callback([&action, mo] {
         action = [mo] {
@@ -164,6 +168,7 @@ void addStudy(CLI::App& app, Action& action) {
             st.jobs = mo->jobs;
             st.np = mo->np;
             st.progress = !mo->json;
+            st.smFromMrf = mo->smFromMrf;
             const auto r = experiments::runMixerStudy(st);
             if (mo->json) std::cout << r.dump(2) << '\n';
             else std::cout << readFile(r["table_md"].get<std::string>()) << "plot: " << r["plot"].get<std::string>()

@@ -179,7 +179,9 @@ nlohmann::json runFormulationStudy(const FormulationStudy& study) {
     if (!study.warmFrom.empty()) run::warmSourceTime(study.warmFrom);
     fs::create_directories(study.out);
     const auto results = runMixerScenes(scenes, study.runs.empty() ? study.out / "runs" : study.runs, study.jobs,
-                                        study.np, study.progress, "formulation study", study.warmFrom);
+                                        study.np, study.progress, "formulation study",
+                                        study.warmFrom.empty() ? std::vector<fs::path>{}
+                                                               : std::vector<fs::path>(scenes.size(), study.warmFrom));
     const auto& ref = results[0];
     const bool refOk = ref.contains("loading_kg") && ref.value("steady", false);
     const double m0 = ref.value("loading_kg", NAN);

@@ -69,6 +69,9 @@ std::string plotStudy(const fs::path& out, const nlohmann::json& rows) {
     return runGnuplot(out, "study.gp", gp.str());
 }
 
+// "mrf" for a run started from the MRF run's fields at its point (--sm-from-mrf), else "deposit".
+std::string startOf(const nlohmann::json& r) { return r.value("start", "deposit"); }
+
 // M(t) of every run on one set of axes: how each run approached (or did not reach) its loading.
 std::string plotHistories(const fs::path& out, const nlohmann::json& rows,
                           const std::vector<nlohmann::json>& histories) {
@@ -103,14 +106,18 @@ std::string plotHistories(const fs::path& out, const nlohmann::json& rows,
 
 std::vector<nlohmann::json> runMixerScenes(const std::vector<scene::MixerScene>& scenes, const fs::path& runs,
                                            int jobs, int np, bool progress, const std::string& label,
-                                           const fs::path& warmFrom) {
-    std::string suffix;
-    if (!warmFrom.empty()) {
-        run::warmSourceTime(warmFrom);  // refuse a bad source before any run
+                                           const std::vector<fs::path>& warmFrom) {
+    if (!warmFrom.empty() && warmFrom.size() != scenes.size())
+        throw std::logic_error("runMixerScenes: one warm start per scene, or none");
+    std::vector<std::string> suffix(scenes.size());
+    for (size_t i = 0; i < warmFrom.size(); ++i) {
+        if (warmFrom[i].empty()) continue;
+        run::warmSourceTime(warmFrom[i]);  // refuse a bad source before any run
         // The source's canonical path names the start: the same source resumes the same runs.
         char tag[32];
-        std::snprintf(tag, sizeof tag, "-warm-%016zx", std::hash<std::string>{}(fs::weakly_canonical(warmFrom).string()));
-        suffix = tag;
+        std::snprintf(tag, sizeof tag, "-warm-%016zx",
+                      std::hash<std::string>{}(fs::weakly_canonical(warmFrom[i]).string()));
+        suffix[i] = tag;
     }
     fs::create_directories(runs);
     std::vector<nlohmann::json> out(scenes.size());
@@ -120,8 +127,8 @@ std::vector<nlohmann::json> runMixerScenes(const std::vector<scene::MixerScene>&
             run::MixerJob job;
             job.scene = scenes[i];
             job.np = np;
-            job.out = runs / (scenes[i].hash() + suffix);
-            job.warmFrom = warmFrom;
+            job.out = runs / (scenes[i].hash() + suffix[i]);
+            if (!warmFrom.empty()) job.warmFrom = warmFrom[i];
             try {
                 return run::runMixer(job);
             } catch (const run::RunError& e) {
@@ -138,6 +145,60 @@ std::vector<nlohmann::json> runMixerScenes(const std::vector<scene::MixerScene>&
     return out;
 }
 
+namespace {
+
+// The sliding-mesh runs' starts: the latest fields of the MRF run at the same point (same scene but
+// the method), which runs first. An sm scene without such a twin in the study is refused before any
+// run; one whose twin failed gets an error row instead of a run from another start.
+std::vector<nlohmann::json> runSmFromMrf(const MixerStudy& study, const fs::path& runs) {
+    const auto& scenes = study.scenes;
+    std::vector<size_t> twin(scenes.size(), scenes.size());
+    std::vector<size_t> first, second;
+    for (size_t i = 0; i < scenes.size(); ++i) {
+        if (scenes[i].method != "sm") {
+            first.push_back(i);
+            continue;
+        }
+        second.push_back(i);
+        auto m = scenes[i];
+        m.method = "mrf";
+        for (size_t j = 0; j < scenes.size(); ++j)
+            if (scenes[j].method == "mrf" && scenes[j].hash() == m.hash()) twin[i] = j;
+        if (twin[i] == scenes.size())
+            throw InputError("sm-from-mrf", "sm at " + formatNumber(scenes[i].rpm) + " rpm, " +
+                                                formatNumber(scenes[i].feedKgH) + " kg/h",
+                             "a study that also runs mrf at every sm point (--methods mrf sm)");
+    }
+    const auto pick = [&](const std::vector<size_t>& idx) {
+        std::vector<scene::MixerScene> s;
+        for (size_t i : idx) s.push_back(scenes[i]);
+        return s;
+    };
+    std::vector<nlohmann::json> results(scenes.size());
+    const auto mrf = runMixerScenes(pick(first), runs, study.jobs, study.np, study.progress, "mixer study (mrf)");
+    for (size_t k = 0; k < first.size(); ++k) results[first[k]] = mrf[k];
+    std::vector<size_t> startable;
+    std::vector<fs::path> from;
+    for (size_t i : second) {
+        const auto& t = results[twin[i]];
+        if (t.contains("run_dir") && !t.contains("error")) {
+            startable.push_back(i);
+            from.push_back(t["run_dir"].get<std::string>());
+        } else {
+            results[i] = {{"error", "no MRF run at this point to start from (it failed)"}};
+        }
+    }
+    const auto sm = runMixerScenes(pick(startable), runs, study.jobs, study.np, study.progress,
+                                   "mixer study (sm from mrf)", from);
+    for (size_t k = 0; k < startable.size(); ++k) {
+        results[startable[k]] = sm[k];
+        results[startable[k]]["start"] = "mrf";
+    }
+    return results;
+}
+
+}  // namespace
+
 nlohmann::json runMixerStudy(const MixerStudy& study) {
     const fs::path runs = study.runs.empty() ? study.out / "runs" : study.runs;
     fs::create_directories(runs);
@@ -152,7 +213,9 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
                         {"scene_hash", s.hash()}});
     std::vector<nlohmann::json> histories(study.scenes.size());
 
-    const auto results = runMixerScenes(study.scenes, runs, study.jobs, study.np, study.progress, "mixer study");
+    const auto results = study.smFromMrf ? runSmFromMrf(study, runs)
+                                         : runMixerScenes(study.scenes, runs, study.jobs, study.np, study.progress,
+                                                          "mixer study");
     for (size_t i = 0; i < results.size(); ++i) {
         for (auto it = results[i].begin(); it != results[i].end(); ++it)
             if (it.key() != "history") rows[i][it.key()] = it.value();
@@ -160,7 +223,7 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
     }
 
     std::ostringstream csv, md;
-    csv << "method,mesh,cells,rpm,feed_kg_h,initial_loading_kg,loading_kg,loading_std_kg,steady,steady_time_s,"
+    csv << "method,mesh,cells,rpm,feed_kg_h,start,initial_loading_kg,loading_kg,loading_std_kg,steady,steady_time_s,"
            "outflow_kg_h,powder_leak_kg_h,powder_balance_ok,end_time_s,wall_seconds,core_seconds,"
            "rotor_zone_loading_kg,dense_loading_kg\n";
     md << "| method | mesh | cells | rpm | feed [kg/h] | start [kg] | M [kg] | std [kg] | in rotor zone "
@@ -182,8 +245,8 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
         };
         const nlohmann::json dense = r.value("dense_loading_kg", nlohmann::json());
         csv << r["method"].get<std::string>() << ',' << r["mesh"].get<std::string>() << ','
-            << r["cells"] << ',' << r["rpm"] << ',' << r["feed_kg_h"] << ','
-            << r["initial_loading_kg"] << ',' << r["loading_kg"] << ','
+            << r["cells"] << ',' << r["rpm"] << ',' << r["feed_kg_h"] << ',' << startOf(r) << ','
+            << r["initial_loading_kg"] << ',' << r["loading_kg"] << ',' 
             << r["loading_std_kg"] << ',' << (steady ? "yes" : "no") << ','
             << (steady ? r["steady_time_s"].dump() : "") << ',' << r["outflow_kg_h"] << ','
             << (leak.is_null() ? "" : leak.dump()) << ','
@@ -191,7 +254,8 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
             << ',' << r["wall_seconds"] << ',' << r["core_seconds"] << ','
             << (zone.is_null() ? "" : zone.dump()) << ',' << (dense.is_null() ? "" : dense.dump()) << '\n';
         md << "| " << head << " | " << r["cells"] << " | " << r["rpm"] << " | " << r["feed_kg_h"]
-           << " | " << r["initial_loading_kg"] << " | " << tableCell(r["loading_kg"], "%.4f") << (steady ? "" : " (not steady)")
+           << " | " << (startOf(r) == "mrf" ? std::string("MRF's fields") : r["initial_loading_kg"].dump())
+           << " | " << tableCell(r["loading_kg"], "%.4f") << (steady ? "" : " (not steady)")
            << " | " << tableCell(r["loading_std_kg"], "%.1e") << " | " << tableCell(share(zone), "%.0f%%")
            << " | " << tableCell(share(dense), "%.0f%%") << " | "
            << (steady ? tableCell(r["steady_time_s"], "%.1f") : "-") << " | "

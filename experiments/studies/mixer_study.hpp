@@ -20,17 +20,21 @@ struct MixerStudy {
     int jobs = 1;
     int np = 1;  // MPI ranks per run
     bool progress = false;
+    // Each sliding-mesh run starts from the latest fields of the study's MRF run at the same point
+    // (run first), instead of its deposit: the two differ by some 15% (the paper), the deposit by
+    // up to a factor of five.
+    bool smFromMrf = false;
 };
 
 // Runs (or resumes, or reuses) each scene in <runs>/<scene hash> on `jobs` threads and returns what
 // a study keeps of each result (loading, steady verdict, balance, costs, run_dir, history), or
-// {"error": ...} for a run that failed. With warmFrom every run starts from that run directory's
-// latest fields, in <runs>/<scene hash>-warm-<source tag>, so that cold and warm runs never share
-// a directory.
+// {"error": ...} for a run that failed. warmFrom is empty (every run from its deposit) or holds one
+// entry per scene: a run directory whose latest fields start that run (empty entry: the deposit),
+// in <runs>/<scene hash>-warm-<source tag>, so that cold and warm runs never share a directory.
 std::vector<nlohmann::json> runMixerScenes(const std::vector<scene::MixerScene>& scenes,
                                            const std::filesystem::path& runs, int jobs, int np, bool progress,
                                            const std::string& label,
-                                           const std::filesystem::path& warmFrom = {});
+                                           const std::vector<std::filesystem::path>& warmFrom = {});
 
 // Runs the study and writes <out>/table.csv, <out>/table.md and <out>/study.png (M against feed
 // and against rpm). Returns the rows.

@@ -23,17 +23,29 @@ namespace fs = std::filesystem;
 namespace {
 bool isFieldFile(const fs::path& source) { return source.extension() == ".h5"; }
 
-// Replaces the deposit in <case>/0 by the source run's latest fields. mapFieldsPar keeps the new
-// case's boundary conditions (feed, rotation) and maps only values; cell-volume weights keep the
-// powder volume on a different mesh and copy it exactly on the same one.
-nlohmann::json warmStartFromRun(const fs::path& caseDir, const fs::path& source) {
+// Replaces the deposit in <case>/0 by the source run's latest fields; cell-volume weights keep the
+// powder volume on a different mesh and copy it exactly on the same one. Between the same kind of
+// mesh, mapFieldsPar -consistent maps the patches' values too. From MRF to the sliding mesh (or
+// back) the patches differ (the AMI pairs, the caps cut at the rotor's rim: v1912's patch AMI
+// aborts on them), so only the cells are mapped and the new case keeps its own boundary values.
+nlohmann::json warmStartFromRun(const scene::MixerScene& s, const fs::path& caseDir, const fs::path& source) {
     const fs::path src = fs::absolute(source);
     const double t = warmSourceTime(src);
-    runUtility(caseDir, {"mapFieldsPar", src.string(), "-sourceTime", "latestTime", "-consistent",
-                         "-mapMethod", "cellVolumeWeight"});
-    nlohmann::json start{{"warm_from", src.string()}, {"source_time_s", t}};
-    if (fs::exists(src / "scene.json"))
-        start["source_scene_hash"] = nlohmann::json::parse(readFile(src / "scene.json")).value("hash", "");
+    const auto sourceScene = nlohmann::json::parse(readFile(src / "scene.json"));
+    const bool sourceSm = sourceScene.contains("scene") && sourceScene["scene"].value("method", "mrf") == "sm";
+    const bool cellsOnly = sourceSm != (s.method == "sm");
+    std::vector<std::string> args{"mapFieldsPar", src.string(), "-sourceTime", "latestTime", "-mapMethod",
+                                  "cellVolumeWeight"};
+    if (cellsOnly)
+        writeFileAtomic(caseDir / "system" / "mapFieldsDict",
+                        "FoamFile { version 2.0; format ascii; class dictionary; object mapFieldsDict; }\n"
+                        "patchMap ( );\ncuttingPatches ( );\n");
+    else
+        args.push_back("-consistent");
+    runUtility(caseDir, args);
+    nlohmann::json start{{"warm_from", src.string()}, {"source_time_s", t},
+                         {"source_scene_hash", sourceScene.value("hash", "")},
+                         {"mapped", cellsOnly ? "cells" : "cells and patches"}};
     if (fs::exists(src / "result.json"))
         start["source_loading_kg"] =
             nlohmann::json::parse(readFile(src / "result.json")).value("loading_kg", 0.0);
@@ -134,10 +146,12 @@ nlohmann::json runMixer(const MixerJob& job) {
             cases::writeMixerSolverCase(s, tmp);
             if (!job.warmFrom.empty() && isFieldFile(job.warmFrom)) {
                 writeFileAtomic(tmp / "start.json", warmStartFromField(s, tmp, job.warmFrom).dump(2));
+            } else if (!job.warmFrom.empty()) {
+                // No deposit first: cells the source's mesh does not cover (the sliding mesh keeps
+                // 26 cells on 2 cm that MRF's mesh cuts away) start as air, not as part of a bed.
+                writeFileAtomic(tmp / "start.json", warmStartFromRun(s, tmp, job.warmFrom).dump(2));
             } else {
                 runUtility(tmp, {"setFields"});
-                if (!job.warmFrom.empty())
-                    writeFileAtomic(tmp / "start.json", warmStartFromRun(tmp, job.warmFrom).dump(2));
             }
         });
         meshSeconds = secondsSince(t0);

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <fstream>
 #include <numbers>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -208,6 +209,41 @@ TEST(MixerRun, SmTurnsAt500Rpm) {
     EXPECT_LT(std::abs(r["powder_leak_kg_h"].get<double>()), 0.005 * r["feed_kg_h"].get<double>()) << r.dump();
     // Tip speed 4.2 m/s: powder faster than a few times that is a numerical jet.
     EXPECT_LT(r["max_powder_speed_m_s"].get<double>(), 20.0) << r.dump();
+}
+
+TEST(MixerRun, StudySmStartsFromTheMrfRunAtItsPoint) {
+    // study mixer --sm-from-mrf: the MRF run goes first, and the sliding mesh starts from its latest
+    // fields (mapped cell by cell: the two meshes' patches differ) with the same powder in it.
+    const fs::path out = scratchDir("study-sm-from-mrf");
+    const auto res = runMixload({"study", "mixer", "--scene", "gcm250-v2", "--cell-size", "0.02", "--methods", "mrf",
+                                 "sm", "--rpms", "162", "--feeds", "45", "--end-time", "0.1", "--sm-from-mrf", "--out",
+                                 out.string(), "--json"});
+    ASSERT_EQ(res.rc, 0) << res.err;
+    const auto rows = nlohmann::json::parse(res.out)["rows"];
+    ASSERT_EQ(rows.size(), 2u);
+    const auto& mrf = rows[0]["method"] == "mrf" ? rows[0] : rows[1];
+    const auto& sm = rows[0]["method"] == "sm" ? rows[0] : rows[1];
+    ASSERT_TRUE(sm.contains("run_dir")) << sm.dump();
+    EXPECT_EQ(sm["start"], "mrf");
+    const auto start = nlohmann::json::parse(std::ifstream(fs::path(sm["run_dir"].get<std::string>()) / "start.json"));
+    EXPECT_EQ(fs::canonical(start["warm_from"].get<std::string>()), fs::canonical(mrf["run_dir"].get<std::string>()));
+    EXPECT_EQ(start["mapped"], "cells");
+    // The same cells on both meshes: the SM run begins with the powder the MRF run ended with.
+    std::ifstream hist(fs::path(sm["run_dir"].get<std::string>()) / "postProcessing/loading/0/loading.dat");
+    std::string line;
+    while (std::getline(hist, line) && line[0] == '#') {}
+    std::istringstream first(line);
+    double t = 0, m = 0;
+    first >> t >> m;
+    const auto mrfRes = nlohmann::json::parse(std::ifstream(fs::path(mrf["run_dir"].get<std::string>()) / "result.json"));
+    EXPECT_NEAR(m, mrfRes["final_loading_kg"].get<double>(), 2e-4) << line;
+    EXPECT_TRUE(sm["powder_balance_ok"].get<bool>()) << sm.dump();
+    // Without an MRF run at the sm point there is nothing to start from: refused, nothing run.
+    const auto bad = runMixload({"study", "mixer", "--scene", "gcm250-v2", "--cell-size", "0.02", "--methods", "sm",
+                                 "--rpms", "162", "--feeds", "45", "--end-time", "0.1", "--sm-from-mrf", "--out",
+                                 (out / "alone").string()});
+    EXPECT_EQ(bad.rc, 2) << bad.err;
+    EXPECT_NE(bad.err.find("sm-from-mrf"), std::string::npos) << bad.err;
 }
 
 TEST(MixerRun, DefaultSceneIsTheCalibratedDeepBed) {
