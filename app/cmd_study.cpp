@@ -185,8 +185,8 @@ void addStudy(CLI::App& app, Action& action) {
     auto fid = std::make_shared<std::array<std::string, 3>>();
     (*fid)[2] = "runs/studies/fidelity";
     auto fjson = std::make_shared<bool>(false);
-    fp->add_option("--fine", (*fid)[0], "Formulation study directory on the fine mesh")->required();
-    fp->add_option("--coarse", (*fid)[1], "The same study on the coarse mesh")->required();
+    fp->add_option("--fine", (*fid)[0], "Formulation study directory on the fine mesh, or a campaign directory (<dir>/NAME)")->required();
+    fp->add_option("--coarse", (*fid)[1], "The same study (or the same design as a campaign) on the coarse mesh")->required();
     fp->add_option("--out", (*fid)[2], "Directory for fidelity.md, .csv and .png")->capture_default_str();
     fp->add_flag("--json", *fjson, "Print JSON");
     fp->callback([&action, fid, fjson] {

@@ -8,6 +8,7 @@
 #include "common/atomic_file.hpp"
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
+#include "store/ledger.hpp"
 
 namespace mixload::experiments {
 
@@ -17,10 +18,30 @@ struct Side {
     double m = 0, core = 0;
 };
 
+// A campaign's finished steady points, keyed by "point <index>" when the two campaigns share their
+// design (the same inputs at every index: `campaign create` with the same ranges, design, n and seed
+// on two meshes); a point whose inputs differ from the other side's is not a pair.
+std::map<std::string, std::pair<Side, nlohmann::json>> campaignRuns(const std::filesystem::path& dir) {
+    const store::Ledger ledger(dir / "ledger.sqlite");
+    const std::string name = dir.filename().string();
+    if (!ledger.campaign(name)) throw InputError("study", dir.string(), "a campaign directory <dir>/NAME with NAME's ledger");
+    std::map<std::string, std::pair<Side, nlohmann::json>> out;
+    for (const auto& r : ledger.runs(name)) {
+        if (r.status != "done" || !r.result.value("steady", false) || !r.result.contains("loading_kg")) continue;
+        auto inputs = r.params;
+        inputs.erase("scene_hash");
+        out["point " + std::to_string(r.index)] = {{r.result["loading_kg"].get<double>(), r.coreSeconds.value_or(0.0)},
+                                                   inputs};
+    }
+    return out;
+}
+
 // variant -> loading and cost, for the runs with a steady verdict ("reference" for the reference).
-std::map<std::string, Side> steadyRuns(const std::filesystem::path& dir) {
+std::map<std::string, Side> studyRuns(const std::filesystem::path& dir) {
     const auto file = dir / "study.json";
-    if (!std::filesystem::is_regular_file(file)) throw InputError("study", dir.string(), "a directory with a formulation study's study.json");
+    if (!std::filesystem::is_regular_file(file))
+        throw InputError("study", dir.string(),
+                         "a directory with a formulation study's study.json, or a campaign directory with its ledger");
     nlohmann::json j;
     try {
         j = nlohmann::json::parse(readFile(file));
@@ -37,10 +58,29 @@ std::map<std::string, Side> steadyRuns(const std::filesystem::path& dir) {
     return out;
 }
 
+bool isCampaign(const std::filesystem::path& dir) { return std::filesystem::is_regular_file(dir / "ledger.sqlite"); }
+
+// Both sides' steady runs, keyed so that equal keys are a pair.
+std::pair<std::map<std::string, Side>, std::map<std::string, Side>> pairable(const std::filesystem::path& fine,
+                                                                             const std::filesystem::path& coarse) {
+    if (isCampaign(fine) != isCampaign(coarse))
+        throw InputError("study", coarse.string(), std::string("the same kind as ") + fine.string() +
+                                                       " (two formulation studies or two campaigns)");
+    if (!isCampaign(fine)) return {studyRuns(fine), studyRuns(coarse)};
+    auto f = campaignRuns(fine), c = campaignRuns(coarse);
+    std::map<std::string, Side> fs, cs;
+    for (const auto& [k, v] : f)
+        if (const auto it = c.find(k); it != c.end() && it->second.second == v.second) {
+            fs[k] = v.first;
+            cs[k] = it->second.first;
+        }
+    return {fs, cs};
+}
+
 }  // namespace
 
 nlohmann::json fidelityPilot(const std::filesystem::path& fine, const std::filesystem::path& coarse, const std::filesystem::path& out) {
-    const auto f = steadyRuns(fine), c = steadyRuns(coarse);
+    const auto [f, c] = pairable(fine, coarse);
     std::vector<std::string> names;
     std::vector<double> xf, xc;
     double coreF = 0, coreC = 0;

@@ -9,8 +9,10 @@
 
 namespace mixload::experiments {
 
-// Reads <fine>/study.json and <coarse>/study.json (`mixload study formulation` output), pairs the
-// reference and every variant steady in both, fits M_fine = a M_coarse + b, and writes
+// Reads <fine>/study.json and <coarse>/study.json (`mixload study formulation` output) and pairs the
+// reference and every variant steady in both; or two campaign directories (<dir>/NAME/ledger.sqlite,
+// the same design on two meshes) and pairs the design points steady in both whose inputs agree.
+// Fits M_fine = a M_coarse + b, and writes
 // fidelity.md, .csv and .png in out. Verdict: "earns its place" with at least 8 pairs and
 // r^2 >= 0.9, "skip" below that r^2, "pilot too small" under 8 pairs. Throws InputError for a
 // directory without a study.
