@@ -204,7 +204,8 @@ std::string fvSolution(const scene::MixerScene& s) {
        << (s.method == "lts" ? 1 : s.numerics.alphaSubCycles) << "; cAlpha 1; MULESCorr "
        << (sm ? "no" : "yes") << "; nLimiterIter 5;\n"
        << "        solver smoothSolver; smoother symGaussSeidel; tolerance 1e-8; relTol 0;\n    }\n"
-       << "    \"pcorr.*\" { solver PCG; preconditioner DIC; tolerance 1e-5; relTol 0; }\n"
+       << "    \"pcorr.*\" { solver PCG; preconditioner DIC; tolerance 1e-5; relTol "
+       << (sm ? num(scene::kSlidingMeshPcorrRelTol) : std::string("0")) << "; }\n"
        // GAMG's agglomerated AMI pairs did not converge on the sliding mesh (1 000 iterations
        // at every final corrector, 2 cm); conjugate gradients do, in 2.5 times less wall time.
        << "    p_rgh { solver " << (sm ? "PCG; preconditioner DIC;" : "GAMG; smoother DIC;")

@@ -238,7 +238,10 @@ nlohmann::json MixerScene::toJson() const {
     // Sliding-mesh runs before the fragment transport lost powder across the AMI, and those with the
     // pairs' mean pressure coefficient diverged at 500 rpm: a new value keeps their results from
     // being taken for today's.
-    if (method == "sm") j["sm_transport"] = "fragments-kmax";
+    if (method == "sm") {
+        j["sm_transport"] = "fragments-kmax";
+        j["sm_pcorr_rel_tol"] = kSlidingMeshPcorrRelTol;
+    }
     // Runs before the numerics presets used the legacy settings and carry no key: theirs stay
     // valid. The values enter the record, not the preset's name.
     if (!numerics.sameSettings(MixerNumerics::named("legacy")))

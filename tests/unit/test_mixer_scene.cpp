@@ -253,6 +253,11 @@ TEST(MixerScene, SlidingMeshRunsTheFragmentTransport) {
     EXPECT_NE(smSol.find("nAlphaCorr 1;"), std::string::npos);
     EXPECT_EQ(mrfSol.find("fragmentAMI"), std::string::npos);
     EXPECT_NE(mrfSol.find("MULESCorr yes;"), std::string::npos);
+    // pcorr passes stop at 1e-3 of their residual on the sliding mesh (it repeats them); MRF's
+    // single solve keeps relTol 0. The record says so.
+    EXPECT_NE(smSol.find("tolerance 1e-5; relTol 0.001; }"), std::string::npos) << smSol;
+    EXPECT_NE(mrfSol.find("tolerance 1e-5; relTol 0; }"), std::string::npos);
+    EXPECT_DOUBLE_EQ(sm.toJson()["sm_pcorr_rel_tol"].get<double>(), scene::kSlidingMeshPcorrRelTol);
     EXPECT_NE(read(dir / "sm/system/controlDict").find("maxCo 0.25;"), std::string::npos);
     std::filesystem::remove_all(dir);
 }
