@@ -52,7 +52,7 @@ nlohmann::json compareMethods(const nlohmann::json& rows) {
                        {"both_results", isResult(mrf) && isResult(sm)},
                        {"mrf_cost", costOf(mrf)},
                        {"sm_cost", costOf(sm)},
-                       {"sm_start", sm.value("start", "deposit")},
+                       {"sm_start", startOf(sm)},
                        {"in_paper_band", 100.0 * (mm - ms) / ms >= kPaperLow && 100.0 * (mm - ms) / ms <= kPaperHigh}});
     }
     return out;

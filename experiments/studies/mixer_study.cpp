@@ -69,9 +69,6 @@ std::string plotStudy(const fs::path& out, const nlohmann::json& rows) {
     return runGnuplot(out, "study.gp", gp.str());
 }
 
-// "mrf" for a run started from the MRF run's fields at its point (--sm-from-mrf), else "deposit".
-std::string startOf(const nlohmann::json& r) { return r.value("start", "deposit"); }
-
 // M(t) of every run on one set of axes: how each run approached (or did not reach) its loading.
 std::string plotHistories(const fs::path& out, const nlohmann::json& rows,
                           const std::vector<nlohmann::json>& histories) {
@@ -152,6 +149,9 @@ namespace {
 // run; one whose twin failed gets an error row instead of a run from another start.
 std::vector<nlohmann::json> runSmFromMrf(const MixerStudy& study, const fs::path& runs) {
     const auto& scenes = study.scenes;
+    std::map<std::string, size_t> mrfAt;  // scene hash -> index
+    for (size_t j = 0; j < scenes.size(); ++j)
+        if (scenes[j].method == "mrf") mrfAt[scenes[j].hash()] = j;
     std::vector<size_t> twin(scenes.size(), scenes.size());
     std::vector<size_t> first, second;
     for (size_t i = 0; i < scenes.size(); ++i) {
@@ -162,8 +162,7 @@ std::vector<nlohmann::json> runSmFromMrf(const MixerStudy& study, const fs::path
         second.push_back(i);
         auto m = scenes[i];
         m.method = "mrf";
-        for (size_t j = 0; j < scenes.size(); ++j)
-            if (scenes[j].method == "mrf" && scenes[j].hash() == m.hash()) twin[i] = j;
+        if (const auto it = mrfAt.find(m.hash()); it != mrfAt.end()) twin[i] = it->second;
         if (twin[i] == scenes.size())
             throw InputError("sm-from-mrf", "sm at " + formatNumber(scenes[i].rpm) + " rpm, " +
                                                 formatNumber(scenes[i].feedKgH) + " kg/h",
@@ -246,7 +245,7 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
         const nlohmann::json dense = r.value("dense_loading_kg", nlohmann::json());
         csv << r["method"].get<std::string>() << ',' << r["mesh"].get<std::string>() << ','
             << r["cells"] << ',' << r["rpm"] << ',' << r["feed_kg_h"] << ',' << startOf(r) << ','
-            << r["initial_loading_kg"] << ',' << r["loading_kg"] << ',' 
+            << r["initial_loading_kg"] << ',' << r["loading_kg"] << ','
             << r["loading_std_kg"] << ',' << (steady ? "yes" : "no") << ','
             << (steady ? r["steady_time_s"].dump() : "") << ',' << r["outflow_kg_h"] << ','
             << (leak.is_null() ? "" : leak.dump()) << ','

@@ -13,6 +13,10 @@ inline bool isResult(const nlohmann::json& r) {
     return r.contains("loading_kg") && r.value("steady", false) && r.value("powder_balance_ok", true);
 }
 
+// Where a study row's run started: "mrf" for a sliding-mesh run started from the MRF run's fields
+// at its point (study mixer --sm-from-mrf), else "deposit".
+inline std::string startOf(const nlohmann::json& r) { return r.value("start", "deposit"); }
+
 // A number of a result as a markdown table cell in printf format, "-" when the result has none.
 inline std::string tableCell(const nlohmann::json& v, const char* format) {
     if (v.is_null()) return "-";
