@@ -138,6 +138,9 @@ void addCampaign(CLI::App& app, Action& action) {
     rn->add_option("--dir", o->spec.place.dir, "Where campaigns live")->capture_default_str();
     rn->add_option("--check", o->checkModel, "After each finished run, check this surrogate model against the campaign (mixload check)");
     rn->add_flag("--snapshots", o->run.snapshots, "Keep every written time of each run and export its snapshots.h5");
+    rn->add_flag("--warm-nearest", o->run.warmNearest,
+                 "Mixer: start each design point from the latest fields of the nearest finished run (unit-cube distance) "
+                 "instead of the scene's deposit; replicates keep their deposits. A run's start is in its result (start)");
     rn->add_flag("--json", o->json, "Print JSON");
     rn->callback([&action, o] { action = [o] { return printRun(*o); }; });
 

@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 #include <thread>
+#include <type_traits>
 
 #include "campaign/driver_lock.hpp"
 #include "campaign/retry.hpp"
@@ -143,9 +144,11 @@ std::string csvField(const nlohmann::json& v) {
 // retry's scene, which has a hash (and so a directory) of its own.
 template <class Job, class Scene, class Run>
 nlohmann::json runPoint(Scene s, bool retry, int np, bool snapshots, const fs::path& home, int index,
-                        std::optional<std::chrono::steady_clock::time_point> deadline, Run run) {
+                        std::optional<std::chrono::steady_clock::time_point> deadline, Run run,
+                        const fs::path& warmFrom = {}) {
     if (retry) s = retryScene(s);
     Job job;
+    if constexpr (std::is_same_v<Job, run::MixerJob>) job.warmFrom = warmFrom;
     job.scene = s;
     job.np = np;
     job.snapshots = snapshots;
@@ -214,6 +217,31 @@ std::vector<double> unitOf(const ParameterSpace& space, const store::LedgerRun& 
     std::vector<double> x;
     for (const auto& p : space.params) x.push_back(r.params.at(p.name).get<double>());
     return space.toUnit(x);
+}
+
+double distance2(const std::vector<double>& a, const std::vector<double>& b) {
+    double d2 = 0;
+    for (size_t k = 0; k < a.size(); ++k) d2 += (a[k] - b[k]) * (a[k] - b[k]);
+    return d2;
+}
+
+// The run directory of the finished run nearest to r in the design's unit cube, or empty. Any
+// finished run serves, steady or stopped at its time cap: its latest fields are closer to r's
+// state than a fixed deposit. Directories no longer on this machine (a ledger carried over) are
+// passed over.
+fs::path nearestFinishedRun(const std::vector<store::LedgerRun>& runs, const ParameterSpace& space,
+                            const store::LedgerRun& r) {
+    const auto at = unitOf(space, r);
+    fs::path best;
+    double bestD2 = 1e300;
+    for (const auto& o : runs) {
+        if (o.status != "done" || o.index == r.index || o.runDir.empty()) continue;
+        std::error_code ec;
+        if (!fs::exists(fs::path(o.runDir) / "result.json", ec)) continue;
+        const double d2 = distance2(unitOf(space, o), at);
+        if (d2 < bestD2) bestD2 = d2, best = o.runDir;
+    }
+    return best;
 }
 
 }  // namespace
@@ -316,12 +344,7 @@ nlohmann::json replicateCampaign(const CampaignPlace& o, int n, double depositFa
         size_t at = 0;
         for (size_t i = 0; i < done.size(); ++i) {
             double nearest = 1e300;
-            for (size_t j : chosen) {
-                const auto &a = units[i], &b = units[j];
-                double d2 = 0;
-                for (size_t k = 0; k < a.size(); ++k) d2 += (a[k] - b[k]) * (a[k] - b[k]);
-                nearest = std::min(nearest, d2);
-            }
+            for (size_t j : chosen) nearest = std::min(nearest, distance2(units[i], units[j]));
             if (nearest > best) best = nearest, at = i;
         }
         chosen.push_back(at);
@@ -425,6 +448,15 @@ nlohmann::json exportCampaignCsv(const CampaignPlace& o, const std::filesystem::
     for (const auto& p : fixed) os << ',' << p;
     os << ",status,attempts,wall_seconds,core_seconds";
     for (const auto& q : qois) os << ',' << q;
+    const bool mixer = c.scene == "mixer";
+    // Where a finished mixer run started: the deposit, or the run whose fields it began from.
+    const auto startOf = [](const nlohmann::json& result) -> std::string {
+        if (!result.is_object() || !result.contains("start")) return "";
+        const auto& st = result["start"];
+        if (st.contains("warm_from")) return "warm:" + fs::path(st["warm_from"].get<std::string>()).filename().string();
+        return st.contains("deposit_kg") ? "deposit:" + formatNumber(st["deposit_kg"].get<double>()) : "";
+    };
+    if (mixer) os << ",start";
     os << ",run_dir,error\n";
     for (const auto& r : runs) {
         os << r.index;
@@ -435,6 +467,7 @@ nlohmann::json exportCampaignCsv(const CampaignPlace& o, const std::filesystem::
            << (r.coreSeconds ? std::to_string(*r.coreSeconds) : "");
         for (const auto& q : qois)
             os << ',' << csvField(r.result.is_object() ? r.result.value(q, nlohmann::json()) : nlohmann::json());
+        if (mixer) os << ',' << startOf(r.result);
         os << ',' << csvField(r.runDir) << ',' << csvField(r.error) << '\n';
     }
     writeFileAtomic(csv, os.str());
@@ -450,6 +483,9 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
     const auto c = openCampaign(place, ledger);
     const fs::path home = place.home();
     const DriverLock lock(home, "campaign run");
+    if (o.warmNearest && c.scene != "mixer")
+        throw InputError("warm-nearest", "on", "a mixer campaign (a collapse starts from its column)");
+    const auto space = parseRanges(c.rangesToml, place.name + " (ranges recorded in the ledger)");
     // Whatever a previous driver left running died with it (its solvers die with their parent).
     const int recovered = ledger->requeueRunning(place.name);
     const auto start = std::chrono::steady_clock::now();
@@ -472,10 +508,14 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
             if (!r) return;
             const bool retry = r->attempts > 1;
             try {
+                // A replicate's deposit is the point of its run: it never starts warm.
+                const fs::path warm = o.warmNearest && !r->params.contains("initial_loading_kg")
+                                          ? nearestFinishedRun(l.runs(place.name), space, *r)
+                                          : fs::path();
                 const nlohmann::json res =
                     c.scene == "mixer"
                         ? runPoint<run::MixerJob>(mixerSceneFor(c.sceneJson, r->params), retry, o.np,
-                                                  o.snapshots, home, r->index, deadline, run::runMixer)
+                                                  o.snapshots, home, r->index, deadline, run::runMixer, warm)
                         : runPoint<run::CollapseJob>(collapseSceneFor(c.sceneJson, r->params), retry,
                                                      o.np, o.snapshots, home, r->index, deadline, run::runCollapse);
                 l.markDone(r->id, store::runQois(c.scene, res), res.value("wall_seconds", 0.0),

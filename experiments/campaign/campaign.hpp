@@ -40,6 +40,10 @@ struct CampaignRunOptions {
     int jobs = 1, np = 1;
     double maxHours = 0;
     bool snapshots = false, progress = true;
+    // Mixer design points start from the latest fields of the nearest finished run of the campaign
+    // (unit-cube distance over its parameters) instead of the scene's deposit; replicates keep
+    // their own deposits, and the first point, with nothing finished, starts from the deposit.
+    bool warmNearest = false;
     // Called after each finished run, one at a time (e.g. checking a surrogate against the campaign).
     std::function<void()> afterRun;
 };

@@ -319,3 +319,48 @@ TEST(CampaignCli, ReadmeCommandRecreatesTheShippedMixerCampaignsScenes) {
     ASSERT_GE(shipped.size(), 40u);
     for (size_t i = 0; i < made.size(); ++i) EXPECT_EQ(made[i], shipped[i]) << "point " << i;
 }
+
+// A tiny real mixer campaign run with --warm-nearest: the first point starts from the deposit, the
+// second from the first's latest fields (its powder at the start is what the first run ended
+// with), and the export says where each began. A collapse campaign refuses the option (exit 2).
+TEST(CampaignCli, WarmNearestStartsAPointFromTheNearestFinishedRun) {
+    const fs::path dir = fs::canonical(scratchDir("campaign-warm"));
+    const auto ranges = rangesFile(dir, "r", "scene = \"mixer\"\n[rpm]\nmin = 39\nmax = 60\nunit = \"rpm\"\n");
+    auto r = runMixload({"campaign", "create", "w", "--ranges", ranges.string(), "--design", "sobol", "--n", "2",
+                         "--cell-size", "0.02", "--end-time", "0.05", "--dir", dir.string()});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    r = runMixload({"campaign", "run", "w", "--warm-nearest", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["counts"]["done"], 2);
+
+    std::vector<nlohmann::json> results;
+    for (const auto& e : fs::directory_iterator(dir / "w" / "runs"))
+        if (fs::exists(e.path() / "result.json")) {
+            std::ifstream in(e.path() / "result.json");
+            results.push_back(nlohmann::json::parse(in));
+        }
+    ASSERT_EQ(results.size(), 2u);
+    const auto& first = results[0]["start"].contains("warm_from") ? results[1] : results[0];
+    const auto& second = results[0]["start"].contains("warm_from") ? results[0] : results[1];
+    EXPECT_TRUE(first["start"].contains("deposit_kg")) << first["start"].dump();
+    ASSERT_TRUE(second["start"].contains("warm_from")) << second["start"].dump();
+    EXPECT_EQ(second["start"]["warm_from"].get<std::string>(), first["run_dir"].get<std::string>());
+    // One step's feed apart at most (5 kg/h x the first step).
+    EXPECT_NEAR(second["initial_loading_kg"].get<double>(), first["final_loading_kg"].get<double>(), 1e-4);
+    EXPECT_GT(std::abs(second["initial_loading_kg"].get<double>() - first["initial_loading_kg"].get<double>()), 0.0);
+
+    const fs::path csv = dir / "w.csv";
+    ASSERT_EQ(runMixload({"campaign", "export", "w", "-o", csv.string(), "--dir", dir.string()}).rc, 0);
+    std::ifstream in(csv);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find(",start,"), std::string::npos);
+    EXPECT_NE(text.find(",deposit:"), std::string::npos) << text;
+    EXPECT_NE(text.find(",warm:"), std::string::npos) << text;
+
+    const auto cranges = rangesFile(dir, "c", "scene = \"collapse\"\n[aspect]\nmin = 1\nmax = 3\nunit = \"1\"\n");
+    ASSERT_EQ(runMixload({"campaign", "create", "c", "--ranges", cranges.string(), "--n", "1", "--mesh", "10",
+                          "--dir", dir.string()}).rc, 0);
+    r = runMixload({"campaign", "run", "c", "--warm-nearest", "--dir", dir.string()});
+    EXPECT_EQ(r.rc, 2) << r.err;
+    EXPECT_NE(r.err.find("warm-nearest"), std::string::npos) << r.err;
+}
