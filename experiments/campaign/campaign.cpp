@@ -225,26 +225,57 @@ double distance2(const std::vector<double>& a, const std::vector<double>& b) {
     return d2;
 }
 
-// The run directory of the finished run nearest to r in the design's unit cube, or empty. Any
-// finished run serves, steady or stopped at its time cap: its latest fields are closer to r's
-// state than a fixed deposit. Directories no longer on this machine (a ledger carried over) are
-// passed over.
-fs::path nearestFinishedRun(const std::vector<store::LedgerRun>& runs, const ParameterSpace& space,
-                            const store::LedgerRun& r) {
+// Where a mixer design point starts under --warm-nearest: the run directory of a finished run of
+// the campaign, or empty (the deposit). Directories no longer on this machine (a ledger carried
+// over) are passed over. With five steady runs or more, a kriging model of their log loading
+// predicts the point's loading, and the steady run whose loading is nearest that prediction is
+// taken: the loading is what a start has to get right, and it varies far more along some inputs
+// (the speed) than along others. With fewer, the nearest finished run in the design's unit cube,
+// steady or stopped at its time cap, and also when no model fits the steady runs.
+fs::path warmSourceFor(const std::vector<store::LedgerRun>& runs, const ParameterSpace& space,
+                       const store::LedgerRun& r) {
     const auto at = unitOf(space, r);
-    fs::path best;
-    double bestD2 = 1e300;
+    Design units;
+    std::vector<double> logM;
+    std::vector<fs::path> dirs;
+    fs::path nearest;
+    double nearestD2 = 1e300;
     for (const auto& o : runs) {
         if (o.status != "done" || o.index == r.index || o.runDir.empty()) continue;
         std::error_code ec;
         if (!fs::exists(fs::path(o.runDir) / "result.json", ec)) continue;
         const double d2 = distance2(unitOf(space, o), at);
-        if (d2 < bestD2) bestD2 = d2, best = o.runDir;
+        if (d2 < nearestD2) nearestD2 = d2, nearest = o.runDir;
+        if (const auto m = runQuantity(o, "mixer")) {
+            units.push_back(unitOf(space, o));
+            logM.push_back(std::log(*m));
+            dirs.push_back(o.runDir);
+        }
     }
-    return best;
+    if (units.size() < 5) return nearest;
+    double predicted = 0;
+    try {
+        predicted = mostUncertain(units, logM, {}, {at}, 1).picks.front().mean;
+    } catch (const std::exception&) {
+        return nearest;  // no model fits these runs: only the start is at stake, and it is recorded
+    }
+    size_t best = 0;
+    for (size_t i = 1; i < logM.size(); ++i)
+        if (std::abs(logM[i] - predicted) < std::abs(logM[best] - predicted)) best = i;
+    return dirs[best];
 }
 
 }  // namespace
+
+fs::path campaignWarmSource(const CampaignPlace& place, int index) {
+    std::unique_ptr<store::Ledger> l;
+    const auto c = openCampaign(place, l);
+    const auto space = parseRanges(c.rangesToml, place.name + " (ranges recorded in the ledger)");
+    const auto runs = l->runs(place.name);
+    for (const auto& r : runs)
+        if (r.index == index) return warmSourceFor(runs, space, r);
+    throw InputError("index", std::to_string(index), "a point of campaign " + place.name);
+}
 
 std::optional<double> runQuantity(const store::LedgerRun& r, const std::string& scene) {
     if (r.status != "done" || !r.result.is_object()) return std::nullopt;
@@ -510,7 +541,7 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
             try {
                 // A replicate's deposit is the point of its run: it never starts warm.
                 const fs::path warm = o.warmNearest && !r->params.contains("initial_loading_kg")
-                                          ? nearestFinishedRun(l.runs(place.name), space, *r)
+                                          ? warmSourceFor(l.runs(place.name), space, *r)
                                           : fs::path();
                 const nlohmann::json res =
                     c.scene == "mixer"

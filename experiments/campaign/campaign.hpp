@@ -48,6 +48,9 @@ struct CampaignRunOptions {
     std::function<void()> afterRun;
 };
 
+// The run directory a mixer design point would start from under --warm-nearest (empty: the deposit).
+std::filesystem::path campaignWarmSource(const CampaignPlace& place, int index);
+
 // Every point becomes a validated scene before the ledger exists: bad input leaves nothing.
 nlohmann::json createCampaign(const CampaignSpec& spec);
 // Adds n points without repeating any: the Sobol sequence continues where the campaign stopped; a

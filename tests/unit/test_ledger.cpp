@@ -240,3 +240,43 @@ TEST(Ledger, FidelityPilotPairsTwoCampaignsPointByPoint) {
     EXPECT_THROW(ex::fidelityPilot(dir / "fine", dir / "none", dir / "out3"), mixload::InputError);
     fs::remove_all(dir);
 }
+
+TEST(Ledger, WarmStartTakesTheRunWhoseLoadingIsNearestTheModelsPrediction) {
+    // Loadings written by hand that depend on the feed alone (M = feed/100). Point 7 (12.5 kg/h,
+    // 106 rpm) lies nearest point 3 (20 kg/h, 120 rpm) in the unit cube but nearest point 2
+    // (15 kg/h, 200 rpm) in loading: with four finished runs the start is the unit-cube neighbour,
+    // with six the model's prediction picks point 2.
+    namespace ex = mixload::experiments;
+    const fs::path dir = fs::temp_directory_path() / ("mixload-warm-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const fs::path ranges = dir / "r.toml";
+    mixload::writeFileAtomic(ranges, "scene = \"mixer\"\n[rpm]\nmin = 39\nmax = 254\nunit = \"rpm\"\n[feed_kg_h]\nmin = 5\nmax = 45\nunit = \"kg/h\"\n");
+    ex::CampaignSpec spec;
+    spec.place = {"warm", dir.string()};
+    spec.ranges = ranges.string();
+    spec.design = "sobol";
+    spec.n = 8;
+    spec.scene = "gcm250-v2";
+    ex::createCampaign(spec);
+    EXPECT_TRUE(ex::campaignWarmSource(spec.place, 7).empty());  // nothing finished: the deposit
+    const auto finish = [&](int upTo) {
+        Ledger l(spec.place.ledger());
+        for (const auto& r : l.runs("warm")) {
+            if (r.index >= upTo || r.status == "done") continue;
+            const auto c = l.claimNext("warm", 2, false);
+            ASSERT_TRUE(c);
+            ASSERT_EQ(c->index, r.index);
+            const fs::path run = dir / ("run" + std::to_string(c->index));
+            fs::create_directories(run);
+            mixload::writeFileAtomic(run / "result.json", "{}");
+            l.markDone(c->id, {{"loading_kg", c->params["feed_kg_h"].get<double>() / 100}, {"steady", true}}, 1, 1, run.string());
+        }
+    };
+    finish(4);
+    EXPECT_EQ(ex::campaignWarmSource(spec.place, 7).filename(), "run3");
+    finish(6);
+    EXPECT_EQ(ex::campaignWarmSource(spec.place, 7).filename(), "run2");
+    EXPECT_THROW(ex::campaignWarmSource(spec.place, 99), mixload::InputError);
+    fs::remove_all(dir);
+}
