@@ -140,24 +140,6 @@ Point formulation(const std::string& file, const PointOptions& flags, const std:
     return x;
 }
 
-// "rho=+50%" or "mu_s=-10%": a relative change of one material input.
-void applyChange(Point& x, const std::string& c) {
-    const auto eq = c.find('=');
-    const std::string name = c.substr(0, eq);
-    std::string v = eq == std::string::npos ? "" : c.substr(eq + 1);
-    size_t k = kInputs;
-    for (size_t i : kMaterial)
-        if (name == kInputSpecs[i].name) k = i;
-    if (k == kInputs || v.empty() || v.back() != '%')
-        throw InputError("change", c, "NAME=+X% or NAME=-X% with NAME one of mu_s, mu_d, i0, d, rho");
-    v.pop_back();
-    try {
-        x[k] *= 1 + std::stod(v) / 100;
-    } catch (const std::exception&) {
-        throw InputError("change", c, "NAME=+X% or NAME=-X% with NAME one of mu_s, mu_d, i0, d, rho");
-    }
-}
-
 std::vector<std::pair<double, double>> operatingPoints(const WhatifCmd& o) {
     std::vector<std::pair<double, double>> pts;
     for (const auto& a : o.at) {

@@ -25,12 +25,9 @@ int run(const SensitivityCmd& o) {
     requireRange("bootstrap", o.bootstrap, 0, 100000);
     const auto space = experiments::loadRanges(o.ranges);
     // Inputs the box leaves out stay at the paper's reference point unless given.
-    auto held = o.at;
-    const surrogates::Point reference{0.31, 0.44, 0.28, 240e-6, 329.84, 5.0, 39.0};
-    for (size_t k = 0; k < surrogates::kInputs; ++k)
-        if (!held.v[k]) held.v[k] = reference[k];
+    const auto held = o.at.orPaperReference();
     const auto model = surrogates::Surrogate::load(o.model.empty() ? defaultModelPath() : o.model);
-    auto j = experiments::surrogateSensitivity(model, space, held.point(), o.n, o.bootstrap, o.out);
+    auto j = experiments::surrogateSensitivity(model, space, held, o.n, o.bootstrap, o.out);
     j["model"] = o.model.empty() ? defaultModelPath() : o.model;
     j["ranges"] = o.ranges;
     if (o.json) {

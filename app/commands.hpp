@@ -23,6 +23,7 @@ void addSurrogate(CLI::App& app, Action& action);  // also `check`
 void addPredict(CLI::App& app, Action& action);    // also `whatif`
 void addRom(CLI::App& app, Action& action);
 void addSensitivity(CLI::App& app, Action& action);
+void addPlane(CLI::App& app, Action& action);
 void addStress(CLI::App& app, Action& action);
 
 // `mixload check`: compares the model with the runs of a campaign (or table, or the model's own

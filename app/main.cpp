@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
     mixload::app::addCampaign(app, action);
     mixload::app::addCalibrate(app, action);
     mixload::app::addSensitivity(app, action);
+    mixload::app::addPlane(app, action);
     mixload::app::addStress(app, action);
     try {
         app.parse(argc, argv);

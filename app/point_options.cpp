@@ -35,4 +35,32 @@ surrogates::Point PointOptions::point(const std::string& prefix) const {
     return x;
 }
 
+surrogates::Point PointOptions::orPaperReference() const {
+    const surrogates::Point reference{0.31, 0.44, 0.28, 240e-6, 329.84, 5.0, 39.0};
+    surrogates::Point x{};
+    for (size_t k = 0; k < surrogates::kInputs; ++k) x[k] = v[k] ? *v[k] : reference[k];
+    surrogates::requirePhysical(x);
+    return x;
+}
+
+void applyChange(surrogates::Point& x, const std::string& c, const std::string& field) {
+    const char* allowed = "NAME=+X% or NAME=-X% with NAME one of mu_s, mu_d, i0, d, rho";
+    const auto eq = c.find('=');
+    const std::string name = c.substr(0, eq);
+    std::string v = eq == std::string::npos ? "" : c.substr(eq + 1);
+    size_t k = surrogates::kInputs;
+    for (size_t i = 0; i < 5; ++i)
+        if (name == surrogates::kInputSpecs[i].name) k = i;
+    if (k == surrogates::kInputs || v.empty() || v.back() != '%') throw InputError(field, c, allowed);
+    v.pop_back();
+    try {
+        size_t used = 0;
+        const double pc = std::stod(v, &used);
+        if (used != v.size()) throw std::invalid_argument(v);
+        x[k] *= 1 + pc / 100;
+    } catch (const std::exception&) {
+        throw InputError(field, c, allowed);
+    }
+}
+
 }  // namespace mixload::app

@@ -20,6 +20,13 @@ struct PointOptions {
     void add(CLI::App* cmd, const std::string& prefix = "", const std::string& what = "", bool materialOnly = false);
     // Throws InputError naming a missing flag; checks the point is physical (mu_d > mu_s, ...).
     surrogates::Point point(const std::string& prefix = "") const;
+    // The given values, the rest at the paper's reference point (Avicel, 5 kg/h, 39 rpm); checked
+    // physical.
+    surrogates::Point orPaperReference() const;
 };
+
+// "rho=+50%" or "mu_s=-10%": a relative change of one formulation input, applied to x. Throws
+// InputError (field `field`) for anything else.
+void applyChange(surrogates::Point& x, const std::string& change, const std::string& field = "change");
 
 }  // namespace mixload::app

@@ -235,3 +235,46 @@ TEST(SurrogateCli, WhatifReportCoversTheOperatingMap) {
     EXPECT_EQ(r.rc, 2) << r.out;
     EXPECT_FALSE(fs::exists(dir / "bad"));
 }
+
+// The paper's Fig. 8 from the shipped model: M over (mu_s, rho) at the reference point, the two
+// arrows agreeing with `whatif` on the same change, the full runs that lie on the plane (and only
+// those) compared, and bad axes or arrows refused (exit 2) before anything is written.
+TEST(SurrogateCli, PlaneDrawsThePapersFig8) {
+    const fs::path dir = scratchDir("plane");
+    const fs::path checks = dir / "runs.csv";
+    mixload::writeFileAtomic(checks,
+                             "scene_hash,mu_s,mu_d,i0,d,rho,feed_kg_h,rpm,loading_kg,steady\n"
+                             "on-a,0.25,0.44,0.28,0.00024,400,5,39,0.03,true\n"
+                             "on-b,0.35,0.44,0.28,0.00024,300,5,39,0.02,true\n"
+                             "off-feed,0.31,0.44,0.28,0.00024,329.84,6,39,0.03,true\n"
+                             "unsteady,0.31,0.44,0.28,0.00024,329.84,5,39,0.03,false\n");
+    auto r = runMixload({"plane", "--n", "11", "--checks", checks.string(), "--out", (dir / "p").string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["x"]["input"], "mu_s");
+    EXPECT_EQ(j["y"]["input"], "rho");
+    EXPECT_EQ(j["grid_points"], 121);  // mu_s 0.2-0.42 stays below mu_d = 0.44
+    ASSERT_EQ(j["arrows"].size(), 2u);
+    ASSERT_EQ(j["checks"].size(), 2u);
+    for (const auto& c : j["checks"]) EXPECT_EQ(c["id"].get<std::string>().substr(0, 3), "on-") << c.dump();
+    for (const char* f : {"plane.md", "plane.csv", "plane.png"}) EXPECT_TRUE(fs::exists(dir / "p" / f)) << f;
+
+    // The first arrow is the paper's first what-if: the same dM as `whatif` gives.
+    r = runMixload({"whatif", "--mu-s", "0.31", "--mu-d", "0.44", "--i0", "0.28", "--d", "240e-6", "--rho", "329.84", "--change",
+                    "rho=+50%", "--change", "mu_s=-10%", "--feed-kg-h", "5", "--rpm", "39", "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto w = nlohmann::json::parse(r.out);
+    EXPECT_NEAR(j["arrows"][0]["dm_kg"].get<double>(), w["points"][0]["delta_kg"].get<double>(), 1e-12) << w.dump();
+
+    for (const auto& bad : std::vector<std::vector<std::string>>{{"--y", "mu_s"},
+                                                                  {"--x-range", "0.4:0.2"},
+                                                                  {"--x", "colour"},
+                                                                  {"--arrow", "rho=+50"},
+                                                                  {"--y-range", "-1:600"}}) {
+        std::vector<std::string> args{"plane", "--out", (dir / "bad").string()};
+        args.insert(args.end(), bad.begin(), bad.end());
+        r = runMixload(args);
+        EXPECT_EQ(r.rc, 2) << bad[0] << ' ' << bad[1] << ": " << r.err;
+        EXPECT_FALSE(fs::exists(dir / "bad")) << bad[0];
+    }
+}
