@@ -6,6 +6,7 @@
 #include "app/commands.hpp"
 #include "campaign/campaign.hpp"
 #include "common/input_error.hpp"
+#include "store/campaign_fields.hpp"
 
 namespace mixload::app {
 
@@ -191,6 +192,23 @@ void addCampaign(CLI::App& app, Action& action) {
             if (j["run_noise"].is_null()) std::cout << "no finished replicate pair yet\n";
             else std::cout << j["n"] << " pairs: one run's scatter " << formatNumber(100 * j["run_noise"].get<double>()) << "% (surrogate fit --noise "
                            << formatNumber(j["run_noise"].get<double>()) << ")\n";
+            return 0;
+        };
+    });
+
+    auto* kf = camp->add_subcommand("keep-fields",
+                                    "Keep every finished run's final powder fraction in <campaign dir>/fields.h5 (one mesh, a column per run), "
+                                    "so that reduced models can train on them once the run directories are gone (campaign run --snapshots does "
+                                    "it after each run)");
+    kf->add_option("name", o->spec.place.name, "Campaign name")->required();
+    kf->add_option("--dir", o->spec.place.dir, "Where campaigns live")->capture_default_str();
+    kf->add_flag("--json", o->json, "Print JSON");
+    kf->callback([&action, o] {
+        action = [o] {
+            const auto j = store::keepCampaignFields(o->spec.place.ledger(), o->spec.place.name);
+            if (o->json) std::cout << j.dump(2) << '\n';
+            else
+                std::cout << j["kept"] << " runs' final fields in " << j["file"].get<std::string>() << " (" << j["added"] << " added)\n";
             return 0;
         };
     });

@@ -6,6 +6,7 @@
 #include <sqlite3.h>
 
 #include "common/clock.hpp"
+#include "common/input_error.hpp"
 
 namespace mixload::store {
 
@@ -113,6 +114,17 @@ nlohmann::json runQois(const std::string& kind, const nlohmann::json& r) {
     for (const char* k : keys)
         if (r.contains(k)) q[k] = r[k];
     return q;
+}
+
+std::vector<LedgerRun> finishedCampaignRuns(const std::filesystem::path& ledger, const std::string& campaign) {
+    if (!std::filesystem::exists(ledger))
+        throw InputError("dir", ledger.parent_path().string(), "a campaign directory with a ledger.sqlite");
+    const Ledger l(ledger);
+    if (!l.campaign(campaign)) throw InputError("campaign", campaign, "a campaign of " + ledger.string());
+    std::vector<LedgerRun> out;
+    for (auto& r : l.runs(campaign))
+        if (r.status == "done") out.push_back(std::move(r));
+    return out;
 }
 
 Ledger::Ledger(const std::filesystem::path& file) {

@@ -38,6 +38,10 @@ struct LedgerRun {
 // kind: mixer | collapse.
 nlohmann::json runQois(const std::string& kind, const nlohmann::json& result);
 
+// The finished runs of a campaign, read from its ledger file in design order; InputError (naming
+// the directory or the campaign) when there is no such ledger or campaign.
+std::vector<LedgerRun> finishedCampaignRuns(const std::filesystem::path& ledger, const std::string& campaign);
+
 class Ledger {
 public:
     // Opens (creating if needed) the ledger file; throws std::runtime_error on SQLite errors.

@@ -153,12 +153,9 @@ SnapshotSet::SnapshotSet(const std::vector<fs::path>& files) {
 }
 
 std::vector<LedgerRun> campaignRunsWithSnapshots(const fs::path& ledger, const std::string& campaign) {
-    if (!fs::exists(ledger)) throw InputError("dir", ledger.parent_path().string(), "a campaign directory with a ledger.sqlite");
-    const Ledger l(ledger);
-    if (!l.campaign(campaign)) throw InputError("campaign", campaign, "a campaign of " + ledger.string());
     std::vector<LedgerRun> out;
-    for (auto& r : l.runs(campaign))
-        if (r.status == "done" && fs::exists(fs::path(r.runDir) / "snapshots.h5")) out.push_back(std::move(r));
+    for (auto& r : finishedCampaignRuns(ledger, campaign))
+        if (fs::exists(fs::path(r.runDir) / "snapshots.h5")) out.push_back(std::move(r));
     if (out.empty())
         throw InputError("campaign", campaign, "a campaign whose finished runs kept snapshots (campaign run --snapshots)");
     return out;

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <iostream>
 #include <map>
 #include <mutex>
 #include <regex>
@@ -26,6 +27,7 @@
 #include "run/collapse_job.hpp"
 #include "run/foam_runner.hpp"
 #include "run/mixer_job.hpp"
+#include "store/campaign_fields.hpp"
 #include "scene/collapse_overrides.hpp"
 #include "scene/mixer_overrides.hpp"
 
@@ -561,6 +563,14 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
                 if (r->attempts < 2) continue;
             }
             std::lock_guard<std::mutex> g(m);
+            if (o.snapshots) {
+                // The final fields outlive the run directory (one file beside the ledger).
+                try {
+                    store::keepCampaignFields(home / "ledger.sqlite", place.name);
+                } catch (const std::exception& e) {
+                    std::cerr << "mixload: warning: the run's final fields were not kept: " << e.what() << '\n';
+                }
+            }
             ++finished;
             if (o.afterRun) o.afterRun();
             bar.update(double(finished) / total,

@@ -13,6 +13,7 @@
 #include "rom/operators/alpha_transport.hpp"
 #include "rom/operators/fv_mesh.hpp"
 #include "rom/regression/pod_regression.hpp"
+#include "store/campaign_fields.hpp"
 #include "store/snapshot_file.hpp"
 
 namespace mixload::rom {
@@ -33,7 +34,7 @@ Eigen::MatrixXd without(const Eigen::MatrixXd& m, Eigen::Index i) {
 // runs) and recorded quantities Q, and what reads a quantity from a field.
 struct CampaignFields {
     std::vector<store::LedgerRun> runs;
-    std::vector<store::SnapshotFile> files;
+    std::optional<store::SnapshotFile> source;  // the shared mesh and the scene's params
     std::vector<std::string> inputs, qois;
     Eigen::MatrixXd X, F, Q;
     std::vector<double> rho;  // mixer: each run's bulk density
@@ -44,7 +45,9 @@ struct CampaignFields {
 
     static CampaignFields load(const fs::path& ledger, const std::string& campaign) {
         CampaignFields c;
-        c.runs = store::campaignRunsWithSnapshots(ledger, campaign);
+        // A run's own snapshots, or the campaign's kept fields once its directory is gone.
+        auto finals = store::campaignFinalFields(ledger, campaign);
+        for (const auto& f : finals.runs) c.runs.push_back(f.run);
         if (c.runs.size() < 3)
             throw InputError("campaign", campaign, "three or more finished runs with snapshots (campaign run --snapshots)");
         for (const auto& [k, v] : c.runs.front().params.items()) {
@@ -54,27 +57,23 @@ struct CampaignFields {
             if (varies) c.inputs.push_back(k);
         }
         if (c.inputs.empty()) throw InputError("campaign", campaign, "a design whose inputs vary");
-        for (const auto& r : c.runs) c.files.emplace_back(fs::path(r.runDir) / "snapshots.h5");
-        for (const auto& f : c.files)
-            if (f.meshFingerprint() != c.files.front().meshFingerprint())
-                throw InputError("campaign", campaign, "runs on one mesh (" + f.path().string() + " differs)");
-        c.scene = c.files.front().params().value("scene", std::string());
+        c.source.emplace(finals.meshSource);
+        c.scene = c.source->params().value("scene", std::string());
         c.mixer = c.scene == "mixer3d";
         if (!c.mixer && c.scene != "collapse2d") throw InputError("scene", c.scene, "mixer3d or collapse2d runs");
-        c.mesh = FvMesh::fromCase(c.files.front());
-        if (!c.mixer) c.shape = CollapseShape::fromCase(c.files.front());
+        c.mesh = FvMesh::fromCase(*c.source);
+        if (!c.mixer) c.shape = CollapseShape::fromCase(*c.source);
         c.qois = c.mixer ? std::vector<std::string>{"loading_kg"} : std::vector<std::string>{"runout_star", "height_star"};
         const auto n = static_cast<Eigen::Index>(c.runs.size()), d = static_cast<Eigen::Index>(c.inputs.size());
         c.X.resize(n, d);
         c.F.resize(c.mesh.cells, n);
         c.Q.resize(n, static_cast<Eigen::Index>(c.qois.size()));
         for (Eigen::Index i = 0; i < n; ++i) {
-            const auto& r = c.runs[static_cast<size_t>(i)];
-            for (Eigen::Index k = 0; k < d; ++k) c.X(i, k) = r.params.at(c.inputs[static_cast<size_t>(k)]).get<double>();
-            const auto& f = c.files[static_cast<size_t>(i)];
-            c.F.col(i) = f.column("alpha", f.times().size() - 1);
-            for (size_t q = 0; q < c.qois.size(); ++q) c.Q(i, static_cast<Eigen::Index>(q)) = r.result.at(c.qois[q]).get<double>();
-            c.rho.push_back(c.mixer ? f.params().at("material.bulk_density_kg_m3").get<double>() : 0.0);
+            const auto& f = finals.runs[static_cast<size_t>(i)];
+            for (Eigen::Index k = 0; k < d; ++k) c.X(i, k) = f.run.params.at(c.inputs[static_cast<size_t>(k)]).get<double>();
+            c.F.col(i) = f.alpha;
+            for (size_t q = 0; q < c.qois.size(); ++q) c.Q(i, static_cast<Eigen::Index>(q)) = f.run.result.at(c.qois[q]).get<double>();
+            c.rho.push_back(c.mixer ? f.bulkDensity : 0.0);
         }
         return c;
     }
@@ -177,7 +176,7 @@ nlohmann::json campaignRegressionPredict(const fs::path& ledger, const std::stri
     for (size_t k = 0; k < c.inputs.size(); ++k) out["at"][c.inputs[k]] = x[static_cast<Eigen::Index>(k)];
     for (size_t k = 0; k < c.qois.size(); ++k) out[c.qois[k]] = q[k];
     if (!fieldsFile.empty()) {
-        store::writeDerivedSnapshots(c.files.front(), {0.0}, {{"alpha", alpha}},
+        store::writeDerivedSnapshots(*c.source, {0.0}, {{"alpha", alpha}},
                                      {{"written_by", "mixload rom regression (POD regression of campaign " + campaign + ")"},
                                       {"at", out["at"].dump()},
                                       {"scene_kind", c.scene},

@@ -160,6 +160,25 @@ TEST(RomRegression, LeavesEachCampaignRunOutAndPredictsIt) {
         EXPECT_EQ(b.rc, 2) << b.err;
         EXPECT_NE(b.err.find("invalid at"), std::string::npos) << b.err;
     }
+    // The driver kept every run's final field beside the ledger: with the run directories gone (a
+    // machine that came back without them), the regression trains on the kept fields and gives
+    // the same answers.
+    const fs::path kept = dir / "reg" / "fields.h5";
+    ASSERT_TRUE(fs::exists(kept));
+    EXPECT_EQ(store::SnapshotFile(kept).times().size(), 5u);
+    fs::rename(dir / "reg" / "runs", dir / "reg" / "runs-gone");
+    r = runMixload({"rom", "regression", "--campaign", "reg", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto again = nlohmann::json::parse(r.out);
+    EXPECT_EQ(again["runs"], 5);
+    EXPECT_DOUBLE_EQ(again["summary"]["runout_star"]["pod_regression_mean_abs_error"].get<double>(),
+                     j["summary"]["runout_star"]["pod_regression_mean_abs_error"].get<double>());
+    EXPECT_DOUBLE_EQ(again["alpha_error_mean"].get<double>(), j["alpha_error_mean"].get<double>());
+    r = runMixload({"campaign", "keep-fields", "reg", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["added"], 0);
+    fs::rename(dir / "reg" / "runs-gone", dir / "reg" / "runs");
+
     // A campaign without snapshots is refused, naming what it needs.
     r = runMixload({"campaign", "create", "bare", "--ranges", (dir / "reg.toml").string(), "--n", "3", "--mesh", "6", "--dir",
                     dir.string()});
@@ -167,6 +186,10 @@ TEST(RomRegression, LeavesEachCampaignRunOutAndPredictsIt) {
     r = runMixload({"rom", "regression", "--campaign", "bare", "--dir", dir.string()});
     EXPECT_EQ(r.rc, 2);
     EXPECT_NE(r.err.find("snapshots"), std::string::npos) << r.err;
+    r = runMixload({"campaign", "keep-fields", "bare", "--dir", dir.string()});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_NE(r.err.find("snapshots"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "bare" / "fields.h5"));
 }
 
 TEST(RomRegression, MixerCampaignReadsItsLoadingFromTheField) {
