@@ -140,8 +140,9 @@ void addCampaign(CLI::App& app, Action& action) {
     rn->add_option("--check", o->checkModel, "After each finished run, check this surrogate model against the campaign (mixload check)");
     rn->add_flag("--snapshots", o->run.snapshots, "Keep every written time of each run and export its snapshots.h5");
     rn->add_flag("--warm-nearest", o->run.warmNearest,
-                 "Mixer: start each design point from the latest fields of the nearest finished run (unit-cube distance) "
-                 "instead of the scene's deposit; replicates keep their deposits. A run's start is in its result (start)");
+                 "Mixer: start each design point from the latest fields of a finished run instead of the scene's deposit: the "
+                 "steady run whose loading is nearest a kriging prediction at the point (five steady runs or more), else the "
+                 "nearest in the unit cube; replicates keep their deposits. A run's start is in its result (start)");
     rn->add_flag("--json", o->json, "Print JSON");
     rn->callback([&action, o] { action = [o] { return printRun(*o); }; });
 

@@ -3,6 +3,7 @@
 
 #include "common/input_error.hpp"
 #include "table.hpp"
+#include "whatif/whatif.hpp"
 
 namespace mixload::app {
 
@@ -49,7 +50,7 @@ void applyChange(surrogates::Point& x, const std::string& c, const std::string& 
     const std::string name = c.substr(0, eq);
     std::string v = eq == std::string::npos ? "" : c.substr(eq + 1);
     size_t k = surrogates::kInputs;
-    for (size_t i = 0; i < 5; ++i)
+    for (size_t i : experiments::kMaterial)
         if (name == surrogates::kInputSpecs[i].name) k = i;
     if (k == surrogates::kInputs || v.empty() || v.back() != '%') throw InputError(field, c, allowed);
     v.pop_back();

@@ -214,6 +214,11 @@ store::CampaignInfo openCampaign(const CampaignPlace& o, std::unique_ptr<store::
 
 namespace {
 
+// The campaign's parameter space, from the ranges recorded in its ledger.
+ParameterSpace rangesOf(const store::CampaignInfo& c, const std::string& name) {
+    return parseRanges(c.rangesToml, name + " (ranges recorded in the ledger)");
+}
+
 // A run's point in the design's unit cube.
 std::vector<double> unitOf(const ParameterSpace& space, const store::LedgerRun& r) {
     std::vector<double> x;
@@ -246,10 +251,11 @@ fs::path warmSourceFor(const std::vector<store::LedgerRun>& runs, const Paramete
         if (o.status != "done" || o.index == r.index || o.runDir.empty()) continue;
         std::error_code ec;
         if (!fs::exists(fs::path(o.runDir) / "result.json", ec)) continue;
-        const double d2 = distance2(unitOf(space, o), at);
+        auto u = unitOf(space, o);
+        const double d2 = distance2(u, at);
         if (d2 < nearestD2) nearestD2 = d2, nearest = o.runDir;
         if (const auto m = runQuantity(o, "mixer")) {
-            units.push_back(unitOf(space, o));
+            units.push_back(std::move(u));
             logM.push_back(std::log(*m));
             dirs.push_back(o.runDir);
         }
@@ -272,7 +278,7 @@ fs::path warmSourceFor(const std::vector<store::LedgerRun>& runs, const Paramete
 fs::path campaignWarmSource(const CampaignPlace& place, int index) {
     std::unique_ptr<store::Ledger> l;
     const auto c = openCampaign(place, l);
-    const auto space = parseRanges(c.rangesToml, place.name + " (ranges recorded in the ledger)");
+    const auto space = rangesOf(c, place.name);
     const auto runs = l->runs(place.name);
     for (const auto& r : runs)
         if (r.index == index) return warmSourceFor(runs, space, r);
@@ -294,7 +300,7 @@ nlohmann::json extendCampaign(const CampaignPlace& o, int n, bool adaptive) {
     requireRange("n", n, 1, 100000);
     std::unique_ptr<store::Ledger> l;
     const auto c = openCampaign(o, l);
-    const auto space = parseRanges(c.rangesToml, o.name + " (ranges recorded in the ledger)");
+    const auto space = rangesOf(c, o.name);
     const auto runs = l->runs(o.name);
     Design old;
     for (const auto& r : runs) old.push_back(unitOf(space, r));
@@ -352,7 +358,7 @@ nlohmann::json replicateCampaign(const CampaignPlace& o, int n, double depositFa
     std::unique_ptr<store::Ledger> l;
     const auto c = openCampaign(o, l);
     if (c.scene != "mixer") throw InputError("campaign", o.name, "a mixer campaign (a replicate starts from another deposit)");
-    const auto space = parseRanges(c.rangesToml, o.name + " (ranges recorded in the ledger)");
+    const auto space = rangesOf(c, o.name);
     const auto runs = l->runs(o.name);
     // Candidates: finished, steady design points that are not replicates themselves.
     std::vector<const store::LedgerRun*> done;
@@ -518,7 +524,7 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
     const DriverLock lock(home, "campaign run");
     if (o.warmNearest && c.scene != "mixer")
         throw InputError("warm-nearest", "on", "a mixer campaign (a collapse starts from its column)");
-    const auto space = parseRanges(c.rangesToml, place.name + " (ranges recorded in the ledger)");
+    const auto space = rangesOf(c, place.name);
     // Whatever a previous driver left running died with it (its solvers die with their parent).
     const int recovered = ledger->requeueRunning(place.name);
     const auto start = std::chrono::steady_clock::now();
@@ -540,6 +546,7 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
             const auto r = l.claimNext(place.name, 2, false);
             if (!r) return;
             const bool retry = r->attempts > 1;
+            bool done = false;
             try {
                 // A replicate's deposit is the point of its run: it never starts warm.
                 const fs::path warm = o.warmNearest && !r->params.contains("initial_loading_kg")
@@ -554,6 +561,7 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
                 l.markDone(r->id, store::runQois(c.scene, res), res.value("wall_seconds", 0.0),
                            res.value("core_seconds", res.value("wall_seconds", 0.0) * o.np),
                            res.value("run_dir", std::string()));
+                done = true;
             } catch (const DeadlineReached&) {
                 l.release(r->id);  // resumes in the next slice
                 stopped = true;
@@ -563,10 +571,10 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
                 if (r->attempts < 2) continue;
             }
             std::lock_guard<std::mutex> g(m);
-            if (o.snapshots) {
+            if (o.snapshots && done) {
                 // The final fields outlive the run directory (one file beside the ledger).
                 try {
-                    store::keepCampaignFields(home / "ledger.sqlite", place.name);
+                    store::keepCampaignFields(place.ledger(), place.name);
                 } catch (const std::exception& e) {
                     std::cerr << "mixload: warning: the run's final fields were not kept: " << e.what() << '\n';
                 }

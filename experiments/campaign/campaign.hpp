@@ -40,8 +40,9 @@ struct CampaignRunOptions {
     int jobs = 1, np = 1;
     double maxHours = 0;
     bool snapshots = false, progress = true;
-    // Mixer design points start from the latest fields of the nearest finished run of the campaign
-    // (unit-cube distance over its parameters) instead of the scene's deposit; replicates keep
+    // Mixer design points start from the latest fields of a finished run of the campaign instead of
+    // the scene's deposit: the steady run whose loading is nearest a kriging prediction at the point
+    // (five steady runs or more), else the nearest finished run in the unit cube. Replicates keep
     // their own deposits, and the first point, with nothing finished, starts from the deposit.
     bool warmNearest = false;
     // Called after each finished run, one at a time (e.g. checking a surrogate against the campaign).
