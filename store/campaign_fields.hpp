@@ -2,8 +2,9 @@
 // The final fields of a campaign's runs, kept beside its ledger so that they outlive the run
 // directories (a machine that comes back without them; a ledger shipped in data/). One snapshot
 // file, <campaign dir>/fields.h5: the mesh once and, per kept run, its last stored powder fraction
-// as one column (its "time" is the run's index in the design). About 0.1 MB per run on the 1 cm
-// mixer mesh, against a few MB for a run's own snapshots.h5.
+// as one column (its "time" is the run's index in the design). Measured on the CI test's 1 cm
+// gcm250 campaign (5 929 cells): 0.68 MB for three runs, of which the mesh is 0.56 MB and each run
+// 0.02 MB, against a few MB for a run's own snapshots.h5.
 #pragma once
 #include <filesystem>
 #include <string>
