@@ -47,6 +47,7 @@ struct MixerStudyCmd {
     int jobs = 1;
     int np = 1;
     bool smFromMrf = false;
+    bool smDownFeeds = false;
     bool json = false;
 };
 struct FormulationCmd {
@@ -128,6 +129,9 @@ void addStudy(CLI::App& app, Action& action) {
     mx->add_flag("--sm-from-mrf", mo->smFromMrf,
                  "Start each sm run from the latest fields of the MRF run at its point (run first) instead of "
                  "the deposit");
+    mx->add_flag("--sm-down-feeds", mo->smDownFeeds,
+                 "With --sm-from-mrf: only each speed's highest feed starts sm from MRF; each lower feed "
+                 "continues the sm run at the next higher feed, at its time and mesh angle");
     mx->add_flag("--json", mo->json, "Print JSON");
     mx->callback([&action, mo] {
         action = [mo] {
@@ -168,7 +172,10 @@ void addStudy(CLI::App& app, Action& action) {
             st.jobs = mo->jobs;
             st.np = mo->np;
             st.progress = !mo->json;
+            if (mo->smDownFeeds && !mo->smFromMrf)
+                throw InputError("sm-down-feeds", "set", "used together with --sm-from-mrf");
             st.smFromMrf = mo->smFromMrf;
+            st.smDownFeeds = mo->smDownFeeds;
             const auto r = experiments::runMixerStudy(st);
             if (mo->json) std::cout << r.dump(2) << '\n';
             else std::cout << readFile(r["table_md"].get<std::string>()) << "plot: " << r["plot"].get<std::string>()

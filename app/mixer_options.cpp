@@ -32,7 +32,7 @@ void MixerOptions::add(CLI::App* cmd, bool withMethod) {
     cmd->add_option("--eta-max", etaMax, "Viscosity cap [Pa s] (default: Rauter with H = bore)");
     cmd->add_option("--initial-loading-kg", initialLoadingKg,
                     "Powder deposited uniformly at the bottom at t = 0 [kg]");
-    cmd->add_option("--end-time", endTime, "Cap on simulated time [s] (mrf, sm)");
+    cmd->add_option("--end-time", endTime, "Cap on simulated time [s] (mrf, sm); a sliding-mesh run that continues another (--warm-from an sm run of the same mesh and speed) counts it, and --min-time, from the source's time");
     cmd->add_option("--lts-iterations", ltsIterations, "Cap on pseudo-time iterations (lts)");
     cmd->add_option("--steady-window-revs", window,
                     "Steady test window [revolutions]: two consecutive windows compared");

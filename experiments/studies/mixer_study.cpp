@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "studies/mixer_study.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <functional>
@@ -176,22 +177,42 @@ std::vector<nlohmann::json> runSmFromMrf(const MixerStudy& study, const fs::path
     std::vector<nlohmann::json> results(scenes.size());
     const auto mrf = runMixerScenes(pick(first), runs, study.jobs, study.np, study.progress, "mixer study (mrf)");
     for (size_t k = 0; k < first.size(); ++k) results[first[k]] = mrf[k];
-    std::vector<size_t> startable;
-    std::vector<fs::path> from;
+    // With --sm-down-feeds the sm points that differ only in feed form a chain, highest feed first:
+    // that one starts from its MRF twin, each next one continues the sm run above it (same mesh and
+    // speed: a restart at its time and angle, not a map). Otherwise every chain has one point.
+    std::map<std::string, std::vector<size_t>> chains;
     for (size_t i : second) {
-        const auto& t = results[twin[i]];
-        if (t.contains("run_dir") && !t.contains("error")) {
-            startable.push_back(i);
-            from.push_back(t["run_dir"].get<std::string>());
-        } else {
-            results[i] = {{"error", "no MRF run at this point to start from (it failed)"}};
-        }
+        auto key = scenes[i];
+        if (study.smDownFeeds) key.feedKgH = 0;
+        chains[key.hash()].push_back(i);
     }
-    const auto sm = runMixerScenes(pick(startable), runs, study.jobs, study.np, study.progress,
-                                   "mixer study (sm from mrf)", from);
-    for (size_t k = 0; k < startable.size(); ++k) {
-        results[startable[k]] = sm[k];
-        results[startable[k]]["start"] = "mrf";
+    size_t waves = 0;
+    for (auto& [key, chain] : chains) {
+        std::sort(chain.begin(), chain.end(),
+                  [&](size_t a, size_t b) { return scenes[a].feedKgH > scenes[b].feedKgH; });
+        waves = std::max(waves, chain.size());
+    }
+    for (size_t w = 0; w < waves; ++w) {
+        std::vector<size_t> startable;
+        std::vector<fs::path> from;
+        for (const auto& [key, chain] : chains) {
+            if (w >= chain.size()) continue;
+            const size_t i = chain[w];
+            const auto& src = results[w == 0 ? twin[i] : chain[w - 1]];
+            if (src.contains("run_dir") && !src.contains("error")) {
+                startable.push_back(i);
+                from.push_back(src["run_dir"].get<std::string>());
+            } else {
+                results[i] = {{"error", w == 0 ? "no MRF run at this point to start from (it failed)"
+                                               : "no sm run at the next higher feed to continue (it failed)"}};
+            }
+        }
+        const auto sm = runMixerScenes(pick(startable), runs, study.jobs, study.np, study.progress,
+                                       w == 0 ? "mixer study (sm from mrf)" : "mixer study (sm, lower feeds)", from);
+        for (size_t k = 0; k < startable.size(); ++k) {
+            results[startable[k]] = sm[k];
+            results[startable[k]]["start"] = w == 0 ? "mrf" : "sm";
+        }
     }
     return results;
 }
@@ -253,7 +274,9 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
             << ',' << r["wall_seconds"] << ',' << r["core_seconds"] << ','
             << (zone.is_null() ? "" : zone.dump()) << ',' << (dense.is_null() ? "" : dense.dump()) << '\n';
         md << "| " << head << " | " << r["cells"] << " | " << r["rpm"] << " | " << r["feed_kg_h"]
-           << " | " << (startOf(r) == "mrf" ? std::string("MRF's fields") : r["initial_loading_kg"].dump())
+           << " | " << (startOf(r) == "mrf"  ? std::string("MRF's fields")
+                  : startOf(r) == "sm" ? std::string("sm at the next higher feed")
+                                       : r["initial_loading_kg"].dump())
            << " | " << tableCell(r["loading_kg"], "%.4f") << (steady ? "" : " (not steady)")
            << " | " << tableCell(r["loading_std_kg"], "%.1e") << " | " << tableCell(share(zone), "%.0f%%")
            << " | " << tableCell(share(dense), "%.0f%%") << " | "

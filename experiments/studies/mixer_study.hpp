@@ -24,6 +24,10 @@ struct MixerStudy {
     // (run first), instead of its deposit: the two differ by some 15% (the paper), while the 0.316 kg
     // deposit is 2.6 times MRF's 0.12 kg at 162 rpm and 45 kg/h (2 cm).
     bool smFromMrf = false;
+    // With smFromMrf: only the highest feed's sm run at each speed starts from MRF; each lower feed
+    // continues the sm run at the next higher one, at its time and angle (a bed drains faster than
+    // a low feed fills one).
+    bool smDownFeeds = false;
 };
 
 // Runs (or resumes, or reuses) each scene in <runs>/<scene hash> on `jobs` threads and returns what

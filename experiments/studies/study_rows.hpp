@@ -14,7 +14,8 @@ inline bool isResult(const nlohmann::json& r) {
 }
 
 // Where a study row's run started: "mrf" for a sliding-mesh run started from the MRF run's fields
-// at its point (study mixer --sm-from-mrf), else "deposit".
+// at its point (study mixer --sm-from-mrf), "sm" for one that continues the sliding-mesh run at the
+// next higher feed (--sm-down-feeds), else "deposit".
 inline std::string startOf(const nlohmann::json& r) { return r.value("start", "deposit"); }
 
 // A number of a result as a markdown table cell in printf format, "-" when the result has none.

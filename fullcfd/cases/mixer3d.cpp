@@ -117,7 +117,7 @@ std::string topoSetDict(const scene::MixerScene& s) {
 
 std::string rotationAxis() { return "origin (0 0 0);\naxis (1 0 0);\n"; }
 
-std::string controlDict(const scene::MixerScene& s, bool keepAllTimes, bool profile) {
+std::string controlDict(const scene::MixerScene& s, bool keepAllTimes, bool profile, double timeOffset) {
     const bool lts = s.method == "lts";
     std::ostringstream os;
     os << "application interFoam;\nlibs (" << mixloadFoamLibs() << ");\n"
@@ -127,7 +127,7 @@ std::string controlDict(const scene::MixerScene& s, bool keepAllTimes, bool prof
         os << "endTime " << s.ltsIterations << ";\ndeltaT 1;\nwriteControl timeStep;\n"
            << "writeInterval 500;\n";
     } else {
-        os << "endTime " << num(s.endTime) << ";  // cap only: the monitor ends the run when steady\n"
+        os << "endTime " << num(timeOffset + s.endTime) << ";  // cap only: the monitor ends the run when steady\n"
            << "deltaT 1e-4;\nwriteControl adjustable;\nwriteInterval "
            << num(std::min(5.0, std::max(0.5, s.revolutionTime()))) << ";\n"
            // Courant 1 by default (semi-implicit MULES): on the tiny mesh, 1 s of flow in 26 s
@@ -153,7 +153,7 @@ std::string controlDict(const scene::MixerScene& s, bool keepAllTimes, bool prof
        << "        residenceFraction " << num(s.steadyResidenceFraction()) << ";\n"
        << "        tolerance " << num(s.steadyTol) << ";\n"
        << "        flowTolerance " << num(s.steadyFlowTol) << ";\n"
-       << "        minTime " << num(s.minTime) << ";\n"
+       << "        minTime " << num(timeOffset + s.minTime) << ";\n"
        << "        maxPowderSpeed " << num(s.divergedPowderSpeed()) << ";  // m/s: above it the run has diverged\n"
        << "        pseudoTime " << (lts ? "yes" : "no") << ";\n"
        << "        zone rotor;\n"
@@ -333,8 +333,8 @@ void writeMixerMeshCase(const scene::MixerScene& s, const fs::path& dir, int np)
 }
 
 void writeMixerControlDict(const scene::MixerScene& s, const fs::path& dir, bool keepAllTimes,
-                           bool profile) {
-    writeFoamFile(dir, "system/controlDict", "dictionary", controlDict(s, keepAllTimes, profile));
+                           bool profile, double timeOffset) {
+    writeFoamFile(dir, "system/controlDict", "dictionary", controlDict(s, keepAllTimes, profile, timeOffset));
 }
 
 std::vector<std::vector<std::string>> mixerMeshSteps(const scene::MixerScene& s) {

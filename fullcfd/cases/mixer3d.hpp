@@ -21,9 +21,10 @@ void writeMixerMeshCase(const scene::MixerScene& s, const std::filesystem::path&
 
 // (Re)writes system/controlDict; keepAllTimes keeps every written time (for snapshots) instead of
 // the last three; profile turns on OpenFOAM's profiler and the Courant probe (post/run_profile).
-// The solver rereads it, so a resumed run can switch.
+// The solver rereads it, so a resumed run can switch. A run that continues another at its time
+// (timeOffset, s) counts its end-time cap and its min-time from there.
 void writeMixerControlDict(const scene::MixerScene& s, const std::filesystem::path& caseDir,
-                           bool keepAllTimes, bool profile);
+                           bool keepAllTimes, bool profile, double timeOffset = 0);
 
 // The utilities that turn the written case into the final mesh, in order.
 std::vector<std::vector<std::string>> mixerMeshSteps(const scene::MixerScene& s);

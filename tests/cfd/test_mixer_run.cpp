@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_harness.hpp"
+#include "common/atomic_file.hpp"
 #include "post/foam_files.hpp"
 #include "store/h5_io.hpp"
 #include "post/snapshots.hpp"
@@ -246,6 +247,36 @@ TEST(MixerRun, StudySmStartsFromTheMrfRunAtItsPoint) {
     EXPECT_NE(bad.err.find("sm-from-mrf"), std::string::npos) << bad.err;
 }
 
+TEST(MixerRun, StudySmDownFeedsContinuesTheHigherFeedsRun) {
+    // --sm-down-feeds: at one speed the highest feed's sm run starts from MRF, the lower feed's
+    // continues it at its time and angle, and the table says so.
+    const fs::path out = scratchDir("study-sm-down-feeds");
+    const auto res = runMixload({"study", "mixer", "--scene", "gcm250-v2", "--cell-size", "0.02", "--methods", "mrf",
+                                 "sm", "--rpms", "162", "--feeds", "15,45", "--end-time", "0.05", "--sm-from-mrf",
+                                 "--sm-down-feeds", "--out", out.string(), "--json"});
+    ASSERT_EQ(res.rc, 0) << res.err;
+    const auto rows = nlohmann::json::parse(res.out)["rows"];
+    ASSERT_EQ(rows.size(), 4u);
+    nlohmann::json sm45, sm15;
+    for (const auto& r : rows)
+        if (r["method"] == "sm") (r["feed_kg_h"].get<double>() > 30 ? sm45 : sm15) = r;
+    ASSERT_TRUE(sm45.contains("run_dir") && sm15.contains("run_dir")) << rows.dump();
+    EXPECT_EQ(sm45["start"], "mrf");
+    EXPECT_EQ(sm15["start"], "sm");
+    const auto start = nlohmann::json::parse(std::ifstream(fs::path(sm15["run_dir"].get<std::string>()) / "start.json"));
+    EXPECT_EQ(fs::canonical(start["warm_from"].get<std::string>()), fs::canonical(sm45["run_dir"].get<std::string>()));
+    EXPECT_EQ(start["mapped"], "continued at the source's time");
+    EXPECT_TRUE(sm15["powder_balance_ok"].get<bool>()) << sm15.dump();
+    EXPECT_NE(mixload::readFile(out / "table.md").find("sm at the next higher feed"), std::string::npos);
+    // Without --sm-from-mrf there is no chain to start: refused before any run.
+    const auto bad = runMixload({"study", "mixer", "--scene", "gcm250-v2", "--cell-size", "0.02", "--methods", "sm",
+                                 "--rpms", "162", "--feeds", "15,45", "--sm-down-feeds", "--out",
+                                 (out / "alone").string()});
+    EXPECT_EQ(bad.rc, 2) << bad.err;
+    EXPECT_NE(bad.err.find("sm-down-feeds"), std::string::npos) << bad.err;
+    EXPECT_FALSE(fs::exists(out / "alone" / "runs"));
+}
+
 TEST(MixerRun, DefaultSceneIsTheCalibratedDeepBed) {
     // No scene, no mesh named: the calibrated scene on its coarse level (1 cm), its deposit near
     // the calibrated loading, its numerics and its steady test from the scene file.
@@ -360,6 +391,44 @@ TEST(MixerRun, WarmStartBeginsFromTheSourceRunsFields) {
     EXPECT_TRUE(b["powder_balance_ok"].get<bool>());
     // A cold run says where it started.
     EXPECT_NEAR(a["start"]["deposit_kg"].get<double>(), 0.3, 1e-12);
+}
+
+TEST(MixerRun, SmFromSmContinuesAtTheSourcesTimeAndAngle) {
+    // Mapped onto a new sliding-mesh case, a turned bed gained 1.8% powder (the paddles no longer
+    // overlap). From a sliding-mesh run of the same mesh and speed, the new feed's run continues the
+    // source instead: it starts at the source's time with exactly its powder, and feeds its own rate.
+    const auto a = runMixer("sm-continue-source", {"--method", "sm", "--feed-kg-h", "45", "--end-time", "0.1"});
+    ASSERT_FALSE(a.is_null());
+    // Its end-time cap counts from the source's time.
+    const auto b = runMixer("sm-continue", {"--method", "sm", "--feed-kg-h", "15", "--end-time", "0.1",
+                                            "--warm-from", a["run_dir"].get<std::string>()});
+    ASSERT_FALSE(b.is_null());
+    EXPECT_EQ(b["start"]["mapped"], "continued at the source's time") << b.dump();
+    const auto history = b["history"];
+    EXPECT_NEAR(history[0][0].get<double>(), a["end_time_s"].get<double>(), 0.01) << history[0];
+    EXPECT_NEAR(b["end_time_s"].get<double>(), a["end_time_s"].get<double>() + 0.1, 0.01) << b.dump();
+    // The first recorded loading is the source's last plus what the new run's first step fed and
+    // let out: the powder was copied, not mapped.
+    const fs::path monitor = fs::path(b["run_dir"].get<std::string>()) / "postProcessing" / "loading";
+    ASSERT_TRUE(fs::exists(monitor));
+    const fs::path firstDir = fs::directory_iterator(monitor)->path();
+    std::ifstream hist(firstDir / "loading.dat");
+    std::string line;
+    while (std::getline(hist, line) && line[0] == '#') {}
+    std::istringstream row(line);
+    double t = 0, m = 0, qin = 0, qout = 0, fed = 0, out = 0;
+    row >> t >> m >> qin >> qout >> fed >> out;
+    EXPECT_NEAR(m, a["final_loading_kg"].get<double>() + fed - out, 1e-8) << line;
+    EXPECT_TRUE(b["powder_balance_ok"].get<bool>()) << b.dump();
+    EXPECT_LT(std::abs(b["powder_leak_kg_h"].get<double>()), 0.005 * 15.0) << b.dump();
+    // Its own feed: 15 kg/h came in over its 0.1 s, not the source's 45.
+    EXPECT_NEAR(b["fed_kg"].get<double>() / (b["end_time_s"].get<double>() - history[0][0].get<double>()) * 3600,
+                15.0, 0.75) << b.dump();
+    // Another speed would turn the mesh to another angle at the same time: that start is mapped.
+    const auto c = runMixer("sm-map", {"--method", "sm", "--rpm", "60", "--end-time", "0.02",
+                                       "--warm-from", a["run_dir"].get<std::string>()});
+    ASSERT_FALSE(c.is_null());
+    EXPECT_EQ(c["start"]["mapped"], "cells and patches") << c.dump();
 }
 
 TEST(MixerRun, WarmStartFromSomethingElseIsRejected) {
