@@ -135,7 +135,7 @@ Point formulation(const std::string& file, const PointOptions& flags, const std:
         if (flags.v[k]) x[k] = *flags.v[k];
         else if (file.empty() && !from)
             throw InputError(std::string("--") + prefix + (kInputSpecs[k].flag + 2), "(missing)",
-                             std::string("a value in ") + kInputSpecs[k].unit + " (or --base FILE.toml)");
+                             missingInputHint(k) + ", or --base FILE.toml");
     }
     return x;
 }

@@ -29,17 +29,27 @@ surrogates::Point PointOptions::point(const std::string& prefix) const {
     for (size_t k = 0; k < surrogates::kInputs; ++k) {
         if (!v[k])
             throw InputError(std::string("--") + prefix + (surrogates::kInputSpecs[k].flag + 2), "(missing)",
-                             std::string("a value in ") + surrogates::kInputSpecs[k].unit);
+                             missingInputHint(k));
         x[k] = *v[k];
     }
     surrogates::requirePhysical(x);
     return x;
 }
 
+namespace {
+// The paper's reference point: Avicel (its Table 4) at 5 kg/h and 39 rpm.
+constexpr surrogates::Point kPaperReference{0.31, 0.44, 0.28, 240e-6, 329.84, 5.0, 39.0};
+}  // namespace
+
+std::string missingInputHint(size_t k) {
+    const std::string unit = surrogates::kInputSpecs[k].unit;
+    return "a number " + (unit == "1" ? std::string("(dimensionless)") : "[" + unit + "]") + ", e.g. " +
+           formatNumber(kPaperReference[k]) + " (the paper's Avicel at 5 kg/h, 39 rpm)";
+}
+
 surrogates::Point PointOptions::orPaperReference() const {
-    const surrogates::Point reference{0.31, 0.44, 0.28, 240e-6, 329.84, 5.0, 39.0};
     surrogates::Point x{};
-    for (size_t k = 0; k < surrogates::kInputs; ++k) x[k] = v[k] ? *v[k] : reference[k];
+    for (size_t k = 0; k < surrogates::kInputs; ++k) x[k] = v[k] ? *v[k] : kPaperReference[k];
     surrogates::requirePhysical(x);
     return x;
 }

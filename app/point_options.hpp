@@ -25,6 +25,10 @@ struct PointOptions {
     surrogates::Point orPaperReference() const;
 };
 
+// What a missing input flag should hold, for its error message: its unit and the paper's reference
+// value, e.g. "a number [kg/m3], e.g. 329.84 (the paper's Avicel at 5 kg/h, 39 rpm)".
+std::string missingInputHint(size_t k);
+
 // "rho=+50%" or "mu_s=-10%": a relative change of one formulation input, applied to x. Throws
 // InputError (field `field`) for anything else.
 void applyChange(surrogates::Point& x, const std::string& change, const std::string& field = "change");

@@ -96,6 +96,15 @@ TEST(SurrogateCli, FitPredictWhatifCheck) {
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     }
 
+    // A missing input: exit 2, naming the flag, its unit and the paper's value as an example.
+    r = runMixload({"predict", "--model", model.string(), "--feed-kg-h", "20", "--rpm", "100"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_NE(r.err.find("invalid --mu-s = (missing): allowed a number (dimensionless), e.g. 0.31"), std::string::npos)
+        << r.err;
+    r = runMixload(cat({"predict", "--model", model.string(), "--feed-kg-h", "20"}, kAvicel));
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_NE(r.err.find("--rpm = (missing): allowed a number [rpm], e.g. 39"), std::string::npos) << r.err;
+
     // Batch: one output row per input row.
     const fs::path out = dir / "pred.csv";
     r = runMixload({"predict", "--model", model.string(), "--batch", table.string(), "-o", out.string()});
