@@ -30,7 +30,8 @@ struct StudyCmd {
 
 struct VerdictCmd {
     std::vector<std::string> runs;
-    double tol = 0.01, flowTol = 0.03, residence = 0.5;
+    double tol = 0.01, flowTol = 0.03, residence = 0.5, from = -1;
+    int batches = 0;
     bool json = false;
 };
 
@@ -224,13 +225,21 @@ void addStudy(CLI::App& app, Action& action) {
     v->add_option("--steady-window-residence", vo->residence,
                   "Window test: windows of at least this share of the residence time M/feed")
         ->capture_default_str();
+    v->add_option("--batches", vo->batches,
+                  "Also the long-time mean: this many equal batches from --from to the end, their mean and its "
+                  "Student-t 95% interval (for loadings that surge rather than settle; a residence time or more "
+                  "per batch)");
+    v->add_option("--from", vo->from,
+                  "Start of the long-time mean [s] (default: the window test's verdict, else half the history)");
     v->add_flag("--json", vo->json, "Print JSON");
     v->callback([&action, vo] {
         action = [vo] {
             requireRange("steady-tol", vo->tol, 0.0, 0.5, false, true);
             requireRange("steady-flow-tol", vo->flowTol, 0.0, 1.0, false, true);
             requireRange("steady-window-residence", vo->residence, 0.0, 10.0);
-            const auto out = post::replayAll(vo->runs, vo->tol, vo->flowTol, vo->residence);
+            if (vo->batches != 0) requireRange("batches", vo->batches, 2, 1000);
+            if (vo->from != -1) requireRange("from", vo->from, 0.0, 1e9);
+            const auto out = post::replayAll(vo->runs, vo->tol, vo->flowTol, vo->residence, vo->batches, vo->from);
             const auto& rows = out["runs"];
             if (vo->json) {
                 std::cout << out.dump(2) << '\n';
@@ -250,6 +259,12 @@ void addStudy(CLI::App& app, Action& action) {
                             r["feed_kg_h"].get<double>(), r["end_time_s"].get<double>(),
                             r["final_loading_kg"].get<double>(), cell("windows").c_str(),
                             cell("balance").c_str(), r["run_dir"].get<std::string>().c_str());
+                if (r.contains("long_time")) {
+                    const auto& l = r["long_time"];
+                    std::printf("  long-time mean from %.1f s, %d batches of %.1f s: %.5f +- %.5f kg (95%%)\n",
+                                l["from_s"].get<double>(), l["batches"].get<int>(), l["batch_s"].get<double>(),
+                                l["mean_kg"].get<double>(), l["half_width_95_kg"].get<double>());
+                }
             }
             std::printf("balance verdicts %d, of which false steady (off the final loading by more "
                         "than %g%%) %d, earlier than the window test %d\n",

@@ -1,9 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "post/verdict_replay.hpp"
 
+#include <algorithm>
 #include <cmath>
 
+#include <gsl/gsl_cdf.h>
+
 #include "common/atomic_file.hpp"
+#include "common/input_error.hpp"
 #include "post/mixer_results.hpp"
 #include "run/foam_runner.hpp"
 #include "steadyLoading.H"
@@ -12,8 +16,28 @@ namespace mixload::post {
 
 namespace fs = std::filesystem;
 
+BatchMeans batchMeans(const std::vector<double>& t, const std::vector<double>& M, double from, int batches) {
+    if (t.size() < 2) throw run::RunError("too short a loading history for batch means");
+    if (batches < 2) throw InputError("batches", std::to_string(batches), ">= 2");
+    if (from >= t.back())
+        throw InputError("from", formatNumber(from),
+                         "a time before the history's end (" + formatNumber(t.back()) + " s)");
+    from = std::max(from, t.front());
+    BatchMeans b;
+    b.from = from;
+    b.batchLength = (t.back() - from) / batches;
+    for (int i = 0; i < batches; ++i)
+        b.means.push_back(steady::windowMean(t, M, from + i * b.batchLength, from + (i + 1) * b.batchLength));
+    double sum = 0, sq = 0;
+    for (double m : b.means) sum += m;
+    b.mean = sum / batches;
+    for (double m : b.means) sq += (m - b.mean) * (m - b.mean);
+    b.halfWidth95 = gsl_cdf_tdist_Pinv(0.975, batches - 1) * std::sqrt(sq / (batches - 1) / batches);
+    return b;
+}
+
 nlohmann::json replayVerdicts(const fs::path& caseDir, double tol, double flowTol,
-                              double residence) {
+                              double residence, int batches, double from) {
     const fs::path sceneFile = caseDir / "scene.json";
     if (!fs::exists(sceneFile)) throw run::RunError("no scene.json in " + caseDir.string());
     const auto sc = nlohmann::json::parse(readFile(sceneFile))["scene"];
@@ -54,21 +78,38 @@ nlohmann::json replayVerdicts(const fs::path& caseDir, double tol, double flowTo
     const double W = std::min(steady::windowLength(base, period, residence, M.back(), feed),
                               t.back() - t.front());
     const double final = W > 0 ? steady::windowMean(t, M, t.back() - W, t.back()) : M.back();
-    return {{"run_dir", caseDir.string()},
-            {"rpm", rpm},
-            {"feed_kg_h", feed * 3600},
-            {"end_time_s", t.back()},
-            {"final_loading_kg", final},
-            {"windows", windows},
-            {"balance", balance}};
+    nlohmann::json out{{"run_dir", caseDir.string()},
+                       {"rpm", rpm},
+                       {"feed_kg_h", feed * 3600},
+                       {"end_time_s", t.back()},
+                       {"final_loading_kg", final},
+                       {"windows", windows},
+                       {"balance", balance}};
+    if (batches >= 2) {
+        // All samples, not the monitor's thinned ones: a batch mean is an integral.
+        std::vector<double> ta, Ma;
+        for (const auto& h : hist) {
+            if (!ta.empty() && h.t <= ta.back()) continue;
+            ta.push_back(h.t);
+            Ma.push_back(h.loading);
+        }
+        const double start = from >= 0 ? from
+                             : windows.is_null() ? 0.5 * (ta.front() + ta.back())
+                                                 : windows["time_s"].get<double>();
+        const auto b = batchMeans(ta, Ma, start, batches);
+        out["long_time"] = {{"from_s", b.from},          {"batches", batches},
+                            {"batch_s", b.batchLength},  {"batch_means_kg", b.means},
+                            {"mean_kg", b.mean},         {"half_width_95_kg", b.halfWidth95}};
+    }
+    return out;
 }
 
 nlohmann::json replayAll(const std::vector<std::string>& runDirs, double tol, double flowTol,
-                         double residence) {
+                         double residence, int batches, double from) {
     nlohmann::json rows = nlohmann::json::array();
     int called = 0, falseSteady = 0, earlier = 0;
     for (const auto& d : runDirs) {
-        auto r = replayVerdicts(d, tol, flowTol, residence);
+        auto r = replayVerdicts(d, tol, flowTol, residence, batches, from);
         const double final = r["final_loading_kg"].get<double>();
         for (const char* k : {"windows", "balance"})
             if (!r[k].is_null()) r[k]["error_vs_final"] = r[k]["loading_kg"].get<double>() / final - 1;

@@ -458,6 +458,51 @@ TEST(MixerRun, VerdictReplayReadsAFinishedHistory) {
     EXPECT_NE(r.err.find("steady-tol"), std::string::npos) << r.err;
 }
 
+TEST(MixerRun, VerdictReplayGivesALongTimeMeanWithItsInterval) {
+    // The batch means of a written history (no solver: the statistic over the monitor's file).
+    // An oscillation whose batches hold whole periods has batch means equal to its level; a step
+    // between two batches has the two levels as batch means and Student t(1)'s wide interval.
+    const fs::path dir = scratchDir("verdict-batches");
+    const auto history = [&](const std::string& name, auto loading) {
+        const fs::path run = dir / name;
+        fs::create_directories(run / "postProcessing" / "loading" / "0");
+        std::ofstream(run / "scene.json") << R"({"scene": {"rpm": 39, "feed_kg_h": 5}})";
+        std::ofstream f(run / "postProcessing" / "loading" / "0" / "loading.dat");
+        f << "# time loading_kg inflow_kg_s outflow_kg_s fed_kg out_kg max_powder_speed_m_s\n";
+        f.precision(12);
+        for (int i = 0; i <= 20000; ++i) {
+            const double t = 0.05 * i;
+            f << t << ' ' << loading(t) << " 0.00138889 0.00138889 " << 0.00138889 * t << ' ' << 0.00138889 * t
+              << " 0.3\n";
+        }
+        return run.string();
+    };
+    const auto wave = history("wave", [](double t) { return 0.4 + 0.01 * std::sin(2 * std::numbers::pi * t / 50); });
+    const auto step = history("step", [](double t) { return t < 500 ? 0.38 : 0.40; });
+    auto r = runMixload({"study", "verdict", wave, step, "--batches", "4", "--from", "0", "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    auto l = nlohmann::json::parse(r.out)["runs"][0]["long_time"];
+    EXPECT_DOUBLE_EQ(l["batch_s"].get<double>(), 250);
+    EXPECT_NEAR(l["mean_kg"].get<double>(), 0.4, 1e-9);
+    EXPECT_LT(l["half_width_95_kg"].get<double>(), 1e-8);
+    r = runMixload({"study", "verdict", step, "--batches", "2", "--from", "0", "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    l = nlohmann::json::parse(r.out)["runs"][0]["long_time"];
+    // The samples are joined by straight lines: the step's last 0.05 s ramp adds 1e-6 kg to the first.
+    EXPECT_NEAR(l["batch_means_kg"][0].get<double>(), 0.38, 2e-6);
+    EXPECT_NEAR(l["batch_means_kg"][1].get<double>(), 0.40, 1e-12);
+    EXPECT_NEAR(l["mean_kg"].get<double>(), 0.39, 1e-6);
+    // t(0.975, 1) = 12.706; the batch means' standard error is 0.01.
+    EXPECT_NEAR(l["half_width_95_kg"].get<double>(), 12.7062 * 0.01, 1e-4);
+    // One batch, or a start after the history's end: refused, naming the input.
+    r = runMixload({"study", "verdict", step, "--batches", "1"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_NE(r.err.find("batches"), std::string::npos) << r.err;
+    r = runMixload({"study", "verdict", step, "--batches", "3", "--from", "2000"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_NE(r.err.find("invalid from = 2000"), std::string::npos) << r.err;
+}
+
 TEST(MixerRun, ADivergedSolutionStopsTheRunWithItsCause) {
     // A real divergence, measured on 2026-11-30: the default scene on a 2 cm mesh with the paper's
     // first what-if powder (rho +50%, mu_s -10%), whose Courant limit exempts air cells, blows up at
