@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include <gsl/gsl_cdf.h>
+#include <gsl/gsl_statistics_double.h>
 
 #include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
@@ -28,11 +29,9 @@ BatchMeans batchMeans(const std::vector<double>& t, const std::vector<double>& M
     b.batchLength = (t.back() - from) / batches;
     for (int i = 0; i < batches; ++i)
         b.means.push_back(steady::windowMean(t, M, from + i * b.batchLength, from + (i + 1) * b.batchLength));
-    double sum = 0, sq = 0;
-    for (double m : b.means) sum += m;
-    b.mean = sum / batches;
-    for (double m : b.means) sq += (m - b.mean) * (m - b.mean);
-    b.halfWidth95 = gsl_cdf_tdist_Pinv(0.975, batches - 1) * std::sqrt(sq / (batches - 1) / batches);
+    b.mean = gsl_stats_mean(b.means.data(), 1, b.means.size());
+    b.halfWidth95 = gsl_cdf_tdist_Pinv(0.975, batches - 1) *
+                    gsl_stats_sd_m(b.means.data(), 1, b.means.size(), b.mean) / std::sqrt(batches);
     return b;
 }
 
@@ -88,11 +87,7 @@ nlohmann::json replayVerdicts(const fs::path& caseDir, double tol, double flowTo
     if (batches >= 2) {
         // All samples, not the monitor's thinned ones: a batch mean is an integral.
         std::vector<double> ta, Ma;
-        for (const auto& h : hist) {
-            if (!ta.empty() && h.t <= ta.back()) continue;
-            ta.push_back(h.t);
-            Ma.push_back(h.loading);
-        }
+        for (const auto& h : hist) ta.push_back(h.t), Ma.push_back(h.loading);
         const double start = from >= 0 ? from
                              : windows.is_null() ? 0.5 * (ta.front() + ta.back())
                                                  : windows["time_s"].get<double>();

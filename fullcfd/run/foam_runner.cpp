@@ -56,14 +56,20 @@ void runUtility(const fs::path& caseDir, const std::vector<std::string>& argv) {
     check(run(caseDir, argv, logName), caseDir, argv.front(), logName);
 }
 
-double latestTime(const fs::path& caseDir) {
+fs::path latestTimeDir(const fs::path& caseDir) {
     double latest = 0;
-    if (!fs::exists(caseDir)) return latest;
+    fs::path dir;
+    if (!fs::exists(caseDir)) return dir;
     for (const auto& e : fs::directory_iterator(caseDir)) {
         if (!e.is_directory()) continue;
-        if (const auto t = parseNumber(e.path().filename().string()); t && *t > latest) latest = *t;
+        if (const auto t = parseNumber(e.path().filename().string()); t && *t > latest) latest = *t, dir = e.path();
     }
-    return latest;
+    return dir;
+}
+
+double latestTime(const fs::path& caseDir) {
+    const fs::path dir = latestTimeDir(caseDir);
+    return dir.empty() ? 0 : *parseNumber(dir.filename().string());
 }
 
 std::string interFoamPath() {

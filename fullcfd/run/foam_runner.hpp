@@ -41,7 +41,9 @@ struct SolverRun {
 // the latest written time when the case already ran. Returns wall seconds spent in this call.
 double runSolver(const SolverRun& r);
 
-// Latest time directory (numeric name) of a case, or 0 if none past 0.
+// Latest time directory (numeric name, as written: a restart needs its digits) of a case, or an
+// empty path if none past 0; latestTime is its time, or 0.
+std::filesystem::path latestTimeDir(const std::filesystem::path& caseDir);
 double latestTime(const std::filesystem::path& caseDir);
 
 }  // namespace mixload::run

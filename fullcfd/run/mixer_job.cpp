@@ -26,15 +26,6 @@ bool isFieldFile(const fs::path& source) { return source.extension() == ".h5"; }
 
 constexpr const char* kContinued = "continued at the source's time";
 
-// The name of a case's latest time directory as written: a restart must find its digits unchanged.
-std::string latestTimeName(const fs::path& caseDir) {
-    const double t = latestTime(caseDir);
-    for (const auto& e : fs::directory_iterator(caseDir))
-        if (e.is_directory())
-            if (const auto v = parseNumber(e.path().filename().string()); v && *v == t) return e.path().filename();
-    throw RunError("no time directory in " + caseDir.string());
-}
-
 // A sliding-mesh run mapped onto a new case loses the paddles' overlap: measured +1.8% powder after
 // 48.6 deg of turn (docs/sliding-mesh.md). So a source of the same mesh turning at the same speed is
 // continued instead: its latest time directory (fields, fluxes, turned points) is copied whole and
@@ -54,9 +45,10 @@ bool continuesSource(const scene::MixerScene& s, const fs::path& caseDir, const 
 }
 
 void continueSource(const fs::path& caseDir, const fs::path& src) {
-    const std::string name = latestTimeName(src);
-    const fs::path to = caseDir / name;
-    fs::copy(src / name, to, fs::copy_options::recursive);
+    const fs::path from = latestTimeDir(src);
+    if (from.empty()) throw RunError("no time directory in " + src.string());
+    const fs::path to = caseDir / from.filename();
+    fs::copy(from, to, fs::copy_options::recursive);
     fs::remove_all(to / "uniform" / "functionObjects");
     const std::regex rate("volumetricFlowRate +constant +[-+0-9.eE]+;");
     const std::string own = readFile(caseDir / "0" / "U");
