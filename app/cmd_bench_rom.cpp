@@ -19,6 +19,7 @@ struct BenchRom {
     std::vector<std::string> held{"0.85:1.2:0.33", "1.15:1.45:0.26", "0.9:1.35:0.25", "1.33:1.69:0.3"};
     int modes = 20;
     std::string pressure = "lithostatic";
+    double hyperTolerance = 0.01;
     std::vector<int> coarse{5, 6};  // Li/4 loses 0.13% of the powder at a = 2: refused
     std::string out = "runs/bench-rom";
     bool json = false;
@@ -55,11 +56,16 @@ void addBenchRom(CLI::App* bench, Action& action) {
         ->capture_default_str();
     c->add_option("--modes", o->modes, "Flow modes of the Galerkin model")->capture_default_str();
     c->add_option("--pressure", o->pressure, "Galerkin pressure closure: lithostatic | recovered")->capture_default_str();
+    c->add_option("--hyper-tolerance", o->hyperTolerance,
+                  "Also a Galerkin model with the mu(I) term hyper-reduced (ECSW) to this training error (0: not)")
+        ->capture_default_str();
     c->add_option("--out", o->out, "Directory (full runs resume from it)")->capture_default_str();
     c->add_flag("--json", o->json, "Print JSON");
     c->callback([&action, o] {
         action = [o] {
             experiments::RomBench b;
+            requireRange("hyper-tolerance", o->hyperTolerance, 0.0, 1.0, true, false);
+            b.hyperTolerance = o->hyperTolerance;
             b.base = o->scene;
             for (const auto& t : o->train) b.train.push_back(parseCollapsePoint("train", t));
             for (const auto& t : o->held) b.heldOut.push_back(parseCollapsePoint("held-out", t));
@@ -84,7 +90,12 @@ void addBenchRom(CLI::App* bench, Action& action) {
                       << "x), POD regression " << j["mean_seconds"]["pod_regression"].get<double>() << " s ("
                       << j["speedup"]["pod_regression"].get<double>() << "x), kriging "
                       << j["mean_seconds"]["kriging"].get<double>() << " s ("
-                      << j["speedup"]["kriging"].get<double>() << "x)\n  offline: training runs "
+                      << j["speedup"]["kriging"].get<double>() << "x)\n";
+            if (!j["hyper"].is_null())
+                std::cout << "  Galerkin with the mu(I) term hyper-reduced at " << j["hyper"]["points"] << " cells (training error "
+                          << j["hyper"]["training_error"].get<double>() << "): " << j["hyper"]["mean_seconds"].get<double>() << " s ("
+                          << j["hyper"]["speedup"].get<double>() << "x)\n";
+            std::cout << "  offline: training runs "
                       << j["offline"]["full_runs_seconds"].get<double>() << " s, Galerkin build "
                       << j["offline"]["galerkin_build_seconds"].get<double>() << " s; break-even after "
                       << j["break_even_answers"]["galerkin"].get<double>() << " answers (Galerkin), "

@@ -296,6 +296,7 @@ void addRom(CLI::App& app, Action& action) {
         std::vector<std::string> files;
         std::string output;
         rom::CollapseGalerkinOptions opt;
+        std::string hyper = "ecsw";
         bool json = false;
     };
     auto bo = std::make_shared<BuildCmd>();
@@ -310,12 +311,22 @@ void addRom(CLI::App& app, Action& action) {
     build->add_option("--alpha-modes", bo->opt.alphaModes, "Powder-fraction modes (0: by --alpha-energy)")->capture_default_str();
     build->add_option("--alpha-energy", bo->opt.alphaEnergy, "Share of alpha's energy its modes keep")->capture_default_str();
     build->add_option("--train-every", bo->opt.trainEvery, "Train on every k-th stored time; the others are held out")->capture_default_str();
+    build->add_option("--hyper-points", bo->opt.hyperPoints,
+                      "Hyper-reduce the mu(I) viscous term: evaluate the law at (at most) this many cells (0: the term on the whole mesh)")
+        ->capture_default_str();
+    build->add_option("--hyper", bo->hyper, "How: ecsw (positive cubature weights) | deim (interpolated viscosity)")
+        ->capture_default_str();
+    build->add_option("--hyper-tolerance", bo->opt.hyperTolerance,
+                      "ecsw: stop adding cells once the term's error on the training snapshots is this small")
+        ->capture_default_str();
     build->add_flag("--json", bo->json, "Print JSON");
     build->callback([&action, bo] {
         action = [bo] {
             if (!(bo->opt.energy > 0 && bo->opt.energy <= 1)) throw InputError("energy", std::to_string(bo->opt.energy), "(0, 1]");
             if (!(bo->opt.alphaEnergy > 0 && bo->opt.alphaEnergy <= 1))
                 throw InputError("alpha-energy", std::to_string(bo->opt.alphaEnergy), "(0, 1]");
+            if (bo->hyper != "ecsw" && bo->hyper != "deim") throw InputError("hyper", bo->hyper, "ecsw or deim");
+            bo->opt.hyperMethod = bo->hyper == "deim" ? rom::HyperMethod::deim : rom::HyperMethod::ecsw;
             std::vector<store::SnapshotFile> train;
             for (const auto& f : bo->files) train.emplace_back(f);
             const auto model = rom::CollapseGalerkin::build(train, bo->opt);
@@ -326,6 +337,9 @@ void addRom(CLI::App& app, Action& action) {
                                    {"flow_energy_kept", model.flow.keptEnergy()},
                                    {"alpha", model.alpha ? "reduced" : "mesh"},
                                    {"alpha_modes", model.alpha ? model.alpha->modes.cols() : 0},
+                                   {"hyper", model.hyper ? bo->hyper : "none"},
+                                   {"hyper_points", model.hyper ? model.hyper->size() : 0},
+                                   {"hyper_training_error", model.hyper ? nlohmann::json(model.hyper->trainingError) : nlohmann::json()},
                                    {"train_files", model.trainFiles.size()},
                                    {"train_times", model.trainTimes},
                                    {"build_seconds", model.buildSeconds},
@@ -338,6 +352,10 @@ void addRom(CLI::App& app, Action& action) {
                       << model.mesh.cells << " cells, " << model.modes() << " flow modes (energy " << model.flow.keptEnergy()
                       << "), alpha "
                       << (model.alpha ? "reduced (" + std::to_string(model.alpha->modes.cols()) + " modes)" : std::string("on the mesh"))
+                      << ", mu(I) term "
+                      << (model.hyper ? "at " + std::to_string(model.hyper->size()) + " cells (" + bo->hyper + ", error " +
+                                            std::to_string(model.hyper->trainingError) + " on the training snapshots)"
+                                      : std::string("on the mesh"))
                       << ", " << model.trainTimes << " snapshots of " << model.trainFiles.size() << " run(s), built in "
                       << model.buildSeconds << " s, " << j["bytes"].get<double>() / 1e6 << " MB\n";
             return 0;

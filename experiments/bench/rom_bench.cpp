@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "bench/rom_bench.hpp"
 
+#include <optional>
 #include <algorithm>
 #include <chrono>
 #include <functional>
@@ -133,6 +134,15 @@ nlohmann::json runRomBench(const RomBench& b) {
     std::vector<store::SnapshotFile> files;
     for (const auto& r : train) files.emplace_back(r.snapshots);
     const auto model = rom::CollapseGalerkin::build(files, b.options);
+    std::optional<rom::CollapseGalerkin> hyperModel;
+    if (b.hyperTolerance > 0) {
+        say("building the POD-Galerkin model with the mu(I) term hyper-reduced");
+        auto o = b.options;
+        o.hyperMethod = rom::HyperMethod::ecsw;
+        o.hyperTolerance = b.hyperTolerance;
+        o.hyperPoints = static_cast<int>(model.mesh.cells);
+        hyperModel = rom::CollapseGalerkin::build(files, o);
+    }
 
     // Kriging on L*f and H*f over (mu_s, mu_d, I0), inputs scaled to the training box.
     const auto nT = static_cast<Eigen::Index>(train.size());
@@ -160,7 +170,7 @@ nlohmann::json runRomBench(const RomBench& b) {
     const double regressionFit = secondsSince(t0);
 
     nlohmann::json rows = nlohmann::json::array();
-    double fullMean = 0, romMean = 0, krigMean = 0, regMean = 0;
+    double fullMean = 0, romMean = 0, krigMean = 0, regMean = 0, hyperMean = 0;
     for (size_t h = 0; h < held.size(); ++h) {
         const auto& r = held[h];
         say("predicting " + label(r.point));
@@ -208,6 +218,7 @@ nlohmann::json runRomBench(const RomBench& b) {
                           {"alpha_error", c["alpha_error_mean"]},
                           {"u_error", c["u_error_mean"]},
                           {"u_projection_error", c["u_projection_error_mean"]}}},
+                        {"galerkin_hyper", nullptr},
                         {"pod_regression",
                          {{"seconds", regSeconds},
                           {"runout_star", Lreg},
@@ -233,6 +244,18 @@ nlohmann::json runRomBench(const RomBench& b) {
                               {"height_error", (c["height_star"].get<double>() - Hf) / Hf}});
         }
         rows.back()["full_coarse"] = coarse;
+        if (hyperModel) {
+            const auto ch = rom::checkCollapse(*hyperModel, f);
+            hyperMean += ch["online_seconds"].get<double>() / static_cast<double>(held.size());
+            rows.back()["galerkin_hyper"] = {{"seconds", ch["online_seconds"]},
+                                             {"runout_star", ch["runout_star"]},
+                                             {"height_star", ch["height_star"]},
+                                             {"runout_error", (ch["runout_star"].get<double>() - Lf) / Lf},
+                                             {"height_error", (ch["height_star"].get<double>() - Hf) / Hf},
+                                             {"alpha_error", ch["alpha_error_mean"]},
+                                             {"hyper_points", ch["hyper_points"]},
+                                             {"hyper_term_error", ch["hyper_term_error_mean"]}};
+        }
     }
     const double romOffline = offlineFull + offlineExport + model.buildSeconds;
     const double krigOffline = offlineFull + krigingFit;
@@ -253,6 +276,13 @@ nlohmann::json runRomBench(const RomBench& b) {
                          {"pod_regression_fit_seconds", regressionFit}}},
                        {"pod_regression_modes", regression.modes()},
                        {"mean_seconds", {{"full", fullMean}, {"galerkin", romMean}, {"pod_regression", regMean}, {"kriging", krigMean}}},
+                       {"hyper",
+                        hyperModel ? nlohmann::json{{"points", hyperModel->hyper->size()},
+                                                    {"training_error", hyperModel->hyper->trainingError},
+                                                    {"build_seconds", hyperModel->buildSeconds},
+                                                    {"mean_seconds", hyperMean},
+                                                    {"speedup", fullMean / hyperMean}}
+                                   : nlohmann::json()},
                        {"speedup", {{"galerkin", fullMean / romMean}, {"pod_regression", fullMean / regMean}, {"kriging", fullMean / krigMean}}},
                        {"break_even_answers",
                         {{"galerkin", breakEven(romOffline, romMean)},
@@ -283,6 +313,9 @@ nlohmann::json runRomBench(const RomBench& b) {
     for (size_t k = 0; k < b.coarseCells.size(); ++k)
         summarise("full run, Li/" + std::to_string(b.coarseCells[k]), [k](const nlohmann::json& r) -> const nlohmann::json& { return r["full_coarse"][k]; }, 0);
     summarise("POD-Galerkin", [](const nlohmann::json& r) -> const nlohmann::json& { return r["galerkin"]; }, romOffline);
+    if (hyperModel)
+        summarise("POD-Galerkin, mu(I) hyper-reduced", [](const nlohmann::json& r) -> const nlohmann::json& { return r["galerkin_hyper"]; },
+                  romOffline - model.buildSeconds + hyperModel->buildSeconds);
     summarise("POD regression", [](const nlohmann::json& r) -> const nlohmann::json& { return r["pod_regression"]; },
               offlineFull + regressionFit);
     summarise("kriging", [](const nlohmann::json& r) -> const nlohmann::json& { return r["kriging"]; }, krigOffline);
@@ -328,11 +361,11 @@ nlohmann::json runRomBench(const RomBench& b) {
 
     // Table and plot: error against online time per held-out run and method.
     std::ostringstream md, csv, dat;
-    md << "| held-out (mu_s, mu_d, I0) | full L*f, H*f (s) | Galerkin L*f, H*f error (s) | POD regression L*f, H*f error (s) | "
-          "kriging L*f, H*f error (s) |\n|---|---|---|---|---|\n";
+    md << "| held-out (mu_s, mu_d, I0) | full L*f, H*f (s) | Galerkin L*f, H*f error (s) | Galerkin, mu(I) hyper-reduced (s) | "
+          "POD regression L*f, H*f error (s) | kriging L*f, H*f error (s) |\n|---|---|---|---|---|---|\n";
     csv << "mu_s,mu_d,i0,full_s,runout_full,height_full,galerkin_s,galerkin_runout_error,galerkin_height_error,galerkin_alpha_error,"
            "regression_s,regression_runout_error,regression_height_error,regression_final_alpha_error,kriging_s,kriging_runout_error,"
-           "kriging_height_error\n";
+           "kriging_height_error,hyper_s,hyper_runout_error,hyper_height_error,hyper_alpha_error\n";
     md << std::setprecision(4);
     csv << std::setprecision(8);
     for (const auto& r : rows) {
@@ -342,19 +375,32 @@ nlohmann::json runRomBench(const RomBench& b) {
         md << "| (" << r["mu_s"].get<double>() << ", " << r["mu_d"].get<double>() << ", " << r["i0"].get<double>() << ") | "
            << r["full"]["runout_star"].get<double>() << ", " << r["full"]["height_star"].get<double>() << " ("
            << r["full"]["seconds"].get<double>() << ") | " << 100 * g["runout_error"].get<double>() << "%, "
-           << 100 * g["height_error"].get<double>() << "% (" << g["seconds"].get<double>() << ") | "
-           << 100 * p["runout_error"].get<double>() << "%, " << 100 * p["height_error"].get<double>() << "% ("
+           << 100 * g["height_error"].get<double>() << "% (" << g["seconds"].get<double>() << ") | ";
+        if (r["galerkin_hyper"].is_null()) md << "– | ";
+        else
+            md << 100 * r["galerkin_hyper"]["runout_error"].get<double>() << "%, " << 100 * r["galerkin_hyper"]["height_error"].get<double>()
+               << "% (" << r["galerkin_hyper"]["seconds"].get<double>() << ") | ";
+        md << 100 * p["runout_error"].get<double>() << "%, " << 100 * p["height_error"].get<double>() << "% ("
            << p["seconds"].get<double>() << ") | " << 100 * k["runout_error"].get<double>() << "%, " << 100 * k["height_error"].get<double>() << "% ("
            << k["seconds"].get<double>() << ") |\n";
         csv << r["mu_s"] << ',' << r["mu_d"] << ',' << r["i0"] << ',' << r["full"]["seconds"] << ',' << r["full"]["runout_star"]
             << ',' << r["full"]["height_star"] << ',' << g["seconds"] << ',' << g["runout_error"] << ',' << g["height_error"]
             << ',' << g["alpha_error"] << ',' << p["seconds"] << ',' << p["runout_error"] << ',' << p["height_error"] << ','
-            << p["final_alpha_error"] << ',' << k["seconds"] << ',' << k["runout_error"] << ',' << k["height_error"] << '\n';
+            << p["final_alpha_error"] << ',' << k["seconds"] << ',' << k["runout_error"] << ',' << k["height_error"];
+        if (r["galerkin_hyper"].is_null()) csv << ",,,,\n";
+        else {
+            const auto& hy = r["galerkin_hyper"];
+            csv << ',' << hy["seconds"] << ',' << hy["runout_error"] << ',' << hy["height_error"] << ',' << hy["alpha_error"] << '\n';
+        }
         dat << g["seconds"].get<double>() << ' ' << std::abs(g["runout_error"].get<double>()) << ' '
             << std::abs(g["height_error"].get<double>()) << ' ' << k["seconds"].get<double>() << ' '
             << std::abs(k["runout_error"].get<double>()) << ' ' << std::abs(k["height_error"].get<double>()) << ' '
             << r["full"]["seconds"].get<double>() << ' ' << p["seconds"].get<double>() << ' '
-            << std::abs(p["runout_error"].get<double>()) << ' ' << std::abs(p["height_error"].get<double>()) << '\n';
+            << std::abs(p["runout_error"].get<double>()) << ' ' << std::abs(p["height_error"].get<double>());
+        if (r["galerkin_hyper"].is_null()) dat << " NaN NaN NaN\n";
+        else
+            dat << ' ' << r["galerkin_hyper"]["seconds"].get<double>() << ' ' << std::abs(r["galerkin_hyper"]["runout_error"].get<double>())
+                << ' ' << std::abs(r["galerkin_hyper"]["height_error"].get<double>()) << '\n';
     }
     writeFileAtomic(b.out / "table.md", md.str());
     writeFileAtomic(b.out / "table.csv", csv.str());
@@ -368,6 +414,7 @@ nlohmann::json runRomBench(const RomBench& b) {
        << "plot 'rom-bench.dat' u 1:2 w p pt 7 ps 1.3 t 'POD-Galerkin, L*f', '' u 1:3 w p pt 6 ps 1.3 t 'POD-Galerkin, H*f', "
        << "'' u 4:5 w p pt 5 ps 1.3 t 'kriging, L*f', '' u 4:6 w p pt 4 ps 1.3 t 'kriging, H*f', "
        << "'' u 8:9 w p pt 13 ps 1.3 t 'POD regression, L*f', '' u 8:10 w p pt 12 ps 1.3 t 'POD regression, H*f', "
+       << "'' u 11:12 w p pt 3 ps 1.3 t 'POD-Galerkin, mu(I) hyper-reduced, L*f', '' u 11:13 w p pt 1 ps 1.3 t 'POD-Galerkin, mu(I) hyper-reduced, H*f', "
        << "'' u 7:(1e-4) w p pt 9 ps 1.5 t 'full run (reference, drawn at 1e-4)'\n";
     const std::string warn = runGnuplot(b.out, "rom-bench.gp", gp.str());
     out["table"] = (b.out / "table.md").string();

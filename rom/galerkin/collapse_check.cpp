@@ -14,6 +14,19 @@ namespace mixload::rom {
 namespace fs = std::filesystem;
 
 namespace {
+// The hyper-reduced viscous term: how it was built, its error on the training snapshots, and its
+// error along the model's own trajectory (mean and max over outputs).
+nlohmann::json hyperSummary(const CollapseGalerkin& rom, const CollapseTrajectory& tr) {
+    if (!rom.hyper) return {{"hyper", "none"}};
+    double mean = 0, worst = 0;
+    for (const double e : tr.hyperTermError) mean += e / static_cast<double>(tr.hyperTermError.size()), worst = std::max(worst, e);
+    return {{"hyper", rom.hyper->method == HyperMethod::deim ? "deim" : "ecsw"},
+            {"hyper_points", rom.hyper->size()},
+            {"hyper_training_error", rom.hyper->trainingError},
+            {"hyper_term_error_mean", mean},
+            {"hyper_term_error_max", worst}};
+}
+
 double weightedNorm(const Eigen::VectorXd& x, const Eigen::VectorXd& w) { return std::sqrt(x.cwiseAbs2().dot(w)); }
 }  // namespace
 
@@ -110,11 +123,12 @@ nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::Snapsho
             ++held;
         }
     }
+    for (size_t i = 0; i < tr.hyperTermError.size(); ++i) rows[i]["hyper_term_error"] = tr.hyperTermError[i];
     const auto& last = rows.back();
     const double n = static_cast<double>(rows.size());
     const double Lr = last["runout_star"], Lf = last["runout_star_full"], Hr = last["height_star"],
                  Hf = last["height_star_full"];
-    return {{"snapshots", f.path().string()},
+    nlohmann::json out = {{"snapshots", f.path().string()},
             {"trained_on_this_run", trainedOn},
             {"mu_s", rom.law.law.muS},
             {"mu_d", rom.law.law.muD},
@@ -155,6 +169,8 @@ nlohmann::json checkCollapse(const CollapseGalerkin& built, const store::Snapsho
             {"build_seconds", rom.buildSeconds},
             {"online_seconds", tr.wallSeconds},
             {"times", rows}};
+    out.update(hyperSummary(rom, tr));
+    return out;
 }
 
 void requireNearTraining(const CollapseGalerkin& rom, double muS, double muD, double i0) {
@@ -201,7 +217,7 @@ nlohmann::json predictCollapse(const CollapseGalerkin& built, double muS, double
                         {"height_star", rom.shape.heightStar(m, tr.alpha[i])},
                         {"kinetic_energy_j", tr.kineticEnergy[i]}});
     if (trajectory) *trajectory = tr;
-    return {{"mu_s", muS},
+    nlohmann::json out = {{"mu_s", muS},
             {"mu_d", muD},
             {"i0", i0},
             {"t_star", rom.tStar},
@@ -213,6 +229,8 @@ nlohmann::json predictCollapse(const CollapseGalerkin& built, double muS, double
             {"rhs_evaluations", tr.rhsEvaluations},
             {"online_seconds", tr.wallSeconds},
             {"history", hist}};
+    out.update(hyperSummary(rom, tr));
+    return out;
 }
 
 }  // namespace mixload::rom

@@ -52,6 +52,15 @@ Frozen CollapseFlow::freeze(const Eigen::VectorXd& alphaIn) const {
     for (Eigen::Index i = 0; i < m_.internalFaces; ++i)
         z.gravityFaces[i] = -m_.magSf[i] * ghf_[i] * (z.rhoC[m_.neighbour[i]] - z.rhoC[m_.owner[i]]);
     z.gravityTerm = Psi.transpose() * z.gravityFaces;
+    if (r_.hyper) {
+        const auto& pts = r_.hyper->points;
+        z.alphaAtPoints.resize(static_cast<Eigen::Index>(pts.size()));
+        z.pAtPoints.resize(z.alphaAtPoints.size());
+        for (size_t i = 0; i < pts.size(); ++i) {
+            z.alphaAtPoints[static_cast<Eigen::Index>(i)] = z.alpha[pts[i]];
+            z.pAtPoints[static_cast<Eigen::Index>(i)] = z.p[pts[i]];
+        }
+    }
     return z;
 }
 
@@ -92,17 +101,40 @@ Vectors CollapseFlow::boundaryVelocity(const Vectors& U) const {
 }
 
 Eigen::VectorXd CollapseFlow::rate(const Frozen& z, const Eigen::VectorXd& a) const {
-    return z.massLlt.solve(r_.flow.modes.transpose() * faceForce(z, a) + z.gravityTerm);
+    return z.massLlt.solve(projectedForce(z, a) + z.gravityTerm);
 }
 
-Eigen::VectorXd CollapseFlow::faceForce(const Frozen& z, const Eigen::VectorXd& a) const {
-    const Eigen::VectorXd flux = m_.magSf.cwiseProduct(r_.flow.modes * a);
+Eigen::VectorXd CollapseFlow::projectedForce(const Frozen& z, const Eigen::VectorXd& a) const {
+    const Eigen::MatrixXd& Psi = r_.flow.modes;
+    if (!r_.hyper) return Psi.transpose() * faceForce(z, a);
     const Vectors U = cellVelocity(a);
-    const Vectors Ub = boundaryVelocity(U);
-    const auto G = gradComponents(m_, U, Ub);
-    const Eigen::VectorXd nu1 = r_.law.nu(strainRate(G), z.p);
-    const Eigen::VectorXd mu =
-        (z.alpha.array() * r_.law.rho * nu1.array() + (1 - z.alpha.array()) * r_.airRho * r_.airNu).matrix();
+    return Psi.transpose() * faceProject(convection(z, a, U, boundaryVelocity(U))) +
+           r_.hyper->projected(hyperViscosity(z, a), a);
+}
+
+Eigen::VectorXd CollapseFlow::mixtureViscosity(const Eigen::VectorXd& alpha, const Eigen::VectorXd& nuPowder) const {
+    return (alpha.array() * r_.law.rho * nuPowder.array() + (1 - alpha.array()) * r_.airRho * r_.airNu).matrix();
+}
+
+Eigen::VectorXd CollapseFlow::viscosity(const Frozen& z, const Eigen::VectorXd& a) const {
+    const Vectors U = cellVelocity(a);
+    return mixtureViscosity(z.alpha, r_.law.nu(strainRate(m_, U, boundaryVelocity(U)), z.p));
+}
+
+Eigen::VectorXd CollapseFlow::hyperViscosity(const Frozen& z, const Eigen::VectorXd& a) const {
+    return mixtureViscosity(z.alphaAtPoints, r_.law.nu(r_.hyper->strainRate(a), z.pAtPoints));
+}
+
+Vectors CollapseFlow::convection(const Frozen& z, const Eigen::VectorXd& a, const Vectors& U, const Vectors& Ub) const {
+    const Eigen::VectorXd flux = m_.magSf.cwiseProduct(r_.flow.modes * a);
+    Vectors A(m_.cells, 3);
+    for (int j = 0; j < 3; ++j)
+        A.col(j) = -z.rhoC.cwiseProduct(div(m_, flux.cwiseProduct(interpolate(m_, U.col(j), Ub.col(j)))));
+    return A;
+}
+
+Vectors CollapseFlow::viscous(const Eigen::VectorXd& mu, const Vectors& U, const Vectors& Ub,
+                              const std::array<Vectors, 3>& G) const {
     const Eigen::VectorXd muF = interpolate(m_, mu, ownerValues(m_, mu));
     // The explicit part of interFoam's divDevRhoReff: div(mu dev2(grad(U)^T)), the face vector
     // Sf . T_f with T linearly interpolated (owner value on boundary faces), in one pass.
@@ -125,17 +157,28 @@ Eigen::VectorXd CollapseFlow::faceForce(const Frozen& z, const Eigen::VectorXd& 
     Vectors A(m_.cells, 3);
     for (int j = 0; j < 3; ++j) {
         const Eigen::VectorXd uj = U.col(j), ubj = Ub.col(j);
-        const Eigen::VectorXd conv = div(m_, flux.cwiseProduct(interpolate(m_, uj, ubj)));
-        A.col(j) = -z.rhoC.cwiseProduct(conv) + laplacian(m_, muF, uj, ubj) + div(m_, tf[j]);
+        A.col(j) = laplacian(m_, muF, uj, ubj) + div(m_, tf[j]);
     }
+    return A;
+}
+
+Eigen::VectorXd CollapseFlow::faceProject(const Vectors& A) const {
     // n_f . interp(A)_f, weighted by the face volume.
-    Eigen::VectorXd faceForce(m_.faces());
+    Eigen::VectorXd force(m_.faces());
     for (Eigen::Index f = 0; f < m_.faces(); ++f) {
         Eigen::RowVector3d af = A.row(m_.owner[f]);
         if (f < m_.internalFaces) af = m_.weights[f] * af + (1 - m_.weights[f]) * A.row(m_.neighbour[f]);
-        faceForce[f] = Vf_[f] * af.dot(m_.Sf.row(f)) / m_.magSf[f];
+        force[f] = Vf_[f] * af.dot(m_.Sf.row(f)) / m_.magSf[f];
     }
-    return faceForce;
+    return force;
+}
+
+Eigen::VectorXd CollapseFlow::faceForce(const Frozen& z, const Eigen::VectorXd& a) const {
+    const Vectors U = cellVelocity(a);
+    const Vectors Ub = boundaryVelocity(U);
+    const auto G = gradComponents(m_, U, Ub);
+    const Eigen::VectorXd mu = mixtureViscosity(z.alpha, r_.law.nu(strainRate(G), z.p));
+    return faceProject(convection(z, a, U, Ub) + viscous(mu, U, Ub, G));
 }
 
 Eigen::VectorXd CollapseFlow::project(const Frozen& z, const Eigen::VectorXd& phi) const {

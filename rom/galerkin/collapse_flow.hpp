@@ -6,6 +6,8 @@
 // collapse_galerkin.hpp.
 #pragma once
 
+#include <array>
+
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 
@@ -17,6 +19,7 @@ namespace mixload::rom {
 // lithostatic pressure, the reduced mass matrix and gravity term, all from alpha.
 struct Frozen {
     Eigen::VectorXd alpha, rhoC, rhoF, p, gravityFaces, gravityTerm;
+    Eigen::VectorXd alphaAtPoints, pAtPoints;  // at the DEIM points of a hyper-reduced model
     Eigen::MatrixXd mass;
     Eigen::LLT<Eigen::MatrixXd> massLlt;
 };
@@ -38,9 +41,24 @@ class CollapseFlow {
 
     // M da/dt = the projected convection, viscous and gravity terms.
     Eigen::VectorXd rate(const Frozen& z, const Eigen::VectorXd& a) const;
+    // Psi^T faceForce, with the viscous term hyper-reduced when the model has its DEIM.
+    Eigen::VectorXd projectedForce(const Frozen& z, const Eigen::VectorXd& a) const;
 
-    // Per face: V_f n_f . interp(-rho (U.grad)U + div(mu (grad U + dev2 grad U^T))).
+    // Per face: V_f n_f . interp(-rho (U.grad)U + div(mu (grad U + dev2 grad U^T))), on the whole mesh.
     Eigen::VectorXd faceForce(const Frozen& z, const Eigen::VectorXd& a) const;
+    // Its parts, per cell: -rho (U.grad)U, and the viscous term for a mixture viscosity mu (G: grad U).
+    Vectors convection(const Frozen& z, const Eigen::VectorXd& a, const Vectors& U, const Vectors& Ub) const;
+    Vectors viscous(const Eigen::VectorXd& mu, const Vectors& U, const Vectors& Ub, const std::array<Vectors, 3>& G) const;
+    // Per face: V_f n_f . interp(A)_f.
+    Eigen::VectorXd faceProject(const Vectors& A) const;
+
+    // The mixture viscosity alpha rho nu + (1 - alpha) rho_air nu_air from the powder's nu.
+    Eigen::VectorXd mixtureViscosity(const Eigen::VectorXd& alpha, const Eigen::VectorXd& nuPowder) const;
+    // The model's mixture viscosity on the whole mesh, and at the DEIM points (hyper-reduced model).
+    Eigen::VectorXd viscosity(const Frozen& z, const Eigen::VectorXd& a) const;
+    Eigen::VectorXd hyperViscosity(const Frozen& z, const Eigen::VectorXd& a) const;
+
+    const CollapseGalerkin& model() const { return r_; }
 
     Eigen::VectorXd flux(const Eigen::VectorXd& a) const { return m_.magSf.cwiseProduct(r_.flow.modes * a); }
 

@@ -58,6 +58,7 @@ CollapseGalerkin CollapseGalerkin::build(const std::vector<store::SnapshotFile>&
     if (files.empty()) throw InputError("FILES", "(none)", "one or more collapse snapshot files");
     if (o.trainEvery < 1) throw InputError("train-every", std::to_string(o.trainEvery), "1 or more");
     if (o.modes < 0) throw InputError("modes", std::to_string(o.modes), "0 (by energy) or more");
+    if (o.hyperPoints < 0) throw InputError("hyper-points", std::to_string(o.hyperPoints), "0 (no hyper-reduction) or more");
     const store::SnapshotFile& first = files.front();
     for (const auto& f : files)
         if (f.meshFingerprint() != first.meshFingerprint())
@@ -132,6 +133,22 @@ CollapseGalerkin CollapseGalerkin::build(const std::vector<store::SnapshotFile>&
                 return x;
             },
             m.V, pa);
+    }
+    if (o.hyperPoints > 0) {
+        // The training viscosities as the model evaluates them: each run's own law, the stored
+        // flux projected on the modes (the velocity the model can hold), and the default pressure
+        // closure (lithostatic from alpha; the closure is a run option, and the recovered one has no
+        // stored counterpart).
+        const CollapseFlow flow(r);
+        HyperTraining tr{Eigen::MatrixXd(m.cells, nCols), Eigen::MatrixXd(r.flow.modes.cols(), nCols)};
+        for (Eigen::Index k = 0; k < nCols; ++k) {
+            const auto& [f, i] = cols[static_cast<size_t>(k)];
+            const Frozen z = flow.freeze(f->column("alpha", i));
+            tr.flow.col(k) = flow.project(z, f->faceColumn("phi", i));
+            const Vectors U = flow.cellVelocity(tr.flow.col(k));
+            tr.mu.col(k) = flow.mixtureViscosity(z.alpha, GranularLaw::fromCase(*f).nu(strainRate(m, U, flow.boundaryVelocity(U)), z.p));
+        }
+        r.hyper = buildViscousHyper(flow, tr, o.hyperMethod, o.hyperPoints, o.hyperTolerance);
     }
     r.buildSeconds = secondsSince(t0);
     return r;
@@ -212,6 +229,14 @@ CollapseTrajectory runCollapseGalerkin(const CollapseGalerkin& rom, const Eigen:
         out.alpha.push_back(alpha);
         out.flow.push_back(a);
         out.pressure.push_back(z.p);
+        if (rom.hyper) {
+            const Eigen::VectorXd full = rom.flow.modes.transpose() * model.faceForce(z, a) - model.projectedForce(z, a);
+            const Vectors U = model.cellVelocity(a), Ub = model.boundaryVelocity(U);
+            // faceForce - projectedForce leaves the two viscous terms' difference; against the full one.
+            const Eigen::VectorXd visc = rom.flow.modes.transpose() *
+                                         model.faceProject(model.viscous(model.viscosity(z, a), U, Ub, gradComponents(m, U, Ub)));
+            out.hyperTermError.push_back(visc.norm() > 0 ? full.norm() / visc.norm() : 0.0);
+        }
         out.kineticEnergy.push_back(0.5 * a.dot(z.mass * a));
         out.powderVolume.push_back(alpha.dot(m.V));
     }

@@ -32,6 +32,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rom/galerkin/collapse_hyper.hpp"
 #include "rom/galerkin/collapse_shape.hpp"
 #include "rom/operators/fv_mesh.hpp"
 #include "rom/operators/granular_viscosity.hpp"
@@ -55,6 +56,9 @@ struct CollapseGalerkinOptions {
     bool reducedAlpha = false;    // reduce alpha too (else it is carried on the mesh)
     int alphaModes = 0;           // 0: by alphaEnergy
     double alphaEnergy = 0.99999;
+    int hyperPoints = 0;          // hyper-reduce the mu(I) viscous term at at most this many cells (0: on the whole mesh)
+    HyperMethod hyperMethod = HyperMethod::ecsw;
+    double hyperTolerance = 0.01; // ECSW: stop adding cells once the term's training error is this small
     int trainEvery = 1;           // train on every k-th stored time (the rest are held out)
     double courant = 0.3;         // of the transport step
     double cAlpha = 1;            // interface compression (the case's cAlpha)
@@ -88,6 +92,7 @@ struct CollapseGalerkin {
     Eigen::MatrixXd cellU;        // 3 cells x modes: each mode's reconstructed cell velocity (row-major)
     std::optional<PodBasis> alpha;
     Eigen::VectorXd alphaLift;    // alpha = alphaLift + X b (reduced alpha)
+    std::optional<ViscousHyper> hyper;  // the mu(I) viscous term at a few cells (collapse_hyper)
     CollapseGalerkinOptions options;
     std::string meshFingerprint;
     std::vector<std::string> trainFiles;
@@ -107,6 +112,9 @@ struct CollapseTrajectory {
     std::vector<double> times;
     std::vector<Eigen::VectorXd> alpha, flow;  // per output time: alpha on the mesh, flow coefficients
     std::vector<Eigen::VectorXd> pressure;     // per output time: the pressure the mu(I) law read
+    // Hyper-reduced model, per output time: the relative error of its projected viscous term
+    // against the term on the whole mesh, for the model's own state.
+    std::vector<double> hyperTermError;
     std::vector<double> kineticEnergy, powderVolume;
     long steps = 0, odeSteps = 0, rhsEvaluations = 0, jacobianEvaluations = 0;
     double clippedVolume = 0;                  // alpha clipped back into [0, 1] (kept-alpha model)

@@ -20,11 +20,23 @@ class ModelFile : public store::CaseFile {
 
 nlohmann::json buildOptions(const CollapseGalerkinOptions& o) {
     return {{"modes", o.modes},           {"energy", o.energy},         {"reduced_alpha", o.reducedAlpha},
-            {"alpha_modes", o.alphaModes}, {"alpha_energy", o.alphaEnergy}, {"train_every", o.trainEvery}};
+            {"alpha_modes", o.alphaModes}, {"alpha_energy", o.alphaEnergy}, {"train_every", o.trainEvery},
+            {"hyper_points", o.hyperPoints}, {"hyper_method", o.hyperMethod == HyperMethod::deim ? "deim" : "ecsw"},
+            {"hyper_tolerance", o.hyperTolerance}};
 }
 
 std::vector<double> rowMajor(const Eigen::MatrixXd& m) {  // m's columns become rows
     return {m.data(), m.data() + m.size()};
+}
+
+void writeMatrix(hid_t g, const std::string& name, const Eigen::MatrixXd& m) {
+    h5::write(g, name, {static_cast<hsize_t>(m.cols()), static_cast<hsize_t>(m.rows())}, rowMajor(m));
+}
+
+Eigen::MatrixXd readMatrix(hid_t g, const std::string& name) {
+    const auto shape = h5::shape(h5::openDataset(g, name));
+    const auto v = h5::readDoubles(g, name);
+    return Eigen::Map<const Eigen::MatrixXd>(v.data(), static_cast<Eigen::Index>(shape[1]), static_cast<Eigen::Index>(shape[0]));
 }
 }  // namespace
 
@@ -38,12 +50,19 @@ void writeCollapseModel(const CollapseGalerkin& m, const store::CaseFile& source
         h5::attr(f, "build_seconds", m.buildSeconds);
         source.copyCaseTo(f);
         writeBasis(h5::createGroup(f, "flow"), m.flow);
-        const auto k = static_cast<hsize_t>(m.cellU.cols()), r = static_cast<hsize_t>(m.cellU.rows());
-        h5::write(f, "cell_velocity", {k, r}, rowMajor(m.cellU));
+        writeMatrix(f, "cell_velocity", m.cellU);
         if (m.alpha) {
             writeBasis(h5::createGroup(f, "alpha"), *m.alpha);
             h5::write(f, "alpha_lift", {static_cast<hsize_t>(m.alphaLift.size())},
                       std::vector<double>(m.alphaLift.data(), m.alphaLift.data() + m.alphaLift.size()));
+        }
+        if (m.hyper) {
+            const auto g = h5::createGroup(f, "hyper");
+            writeMatrix(g, "to_coefficients", m.hyper->toCoefficients);
+            writeMatrix(g, "grad_at_points", m.hyper->gradAtPoints);
+            writeMatrix(g, "viscous", m.hyper->viscous);
+            h5::write(g, "points", std::vector<int32_t>(m.hyper->points.begin(), m.hyper->points.end()));
+            h5::attr(g, "training_error", m.hyper->trainingError);
         }
     });
 }
@@ -68,16 +87,33 @@ CollapseGalerkin readCollapseModel(const fs::path& file) {
         m.trainTimes = static_cast<size_t>(a.at("train_times").get<double>());
         m.buildSeconds = a.at("build_seconds");
         m.flow = readBasis(h5::openGroup(f.handle(), "flow"));
-        const auto shape = h5::shape(h5::openDataset(f.handle(), "cell_velocity"));
-        const auto v = h5::readDoubles(f.handle(), "cell_velocity");
-        m.cellU = Eigen::Map<const Eigen::MatrixXd>(v.data(), static_cast<Eigen::Index>(shape[1]),
-                                                    static_cast<Eigen::Index>(shape[0]));
+        m.options.hyperPoints = o.value("hyper_points", 0);
+        m.options.hyperMethod = o.value("hyper_method", "ecsw") == "deim" ? HyperMethod::deim : HyperMethod::ecsw;
+        m.options.hyperTolerance = o.value("hyper_tolerance", 0.01);
+        m.cellU = readMatrix(f.handle(), "cell_velocity");
         if (m.flow.modes.rows() != m.mesh.faces() || m.cellU.rows() != 3 * m.mesh.cells || m.cellU.cols() != m.flow.modes.cols())
             throw std::runtime_error("its bases do not fit its mesh");
         if (m.options.reducedAlpha) {
             m.alpha = readBasis(h5::openGroup(f.handle(), "alpha"));
             const auto lift = h5::readDoubles(f.handle(), "alpha_lift");
             m.alphaLift = Eigen::Map<const Eigen::VectorXd>(lift.data(), static_cast<Eigen::Index>(lift.size()));
+        }
+        if (m.options.hyperPoints > 0) {
+            const auto g = h5::openGroup(f.handle(), "hyper");
+            ViscousHyper h;
+            h.method = m.options.hyperMethod;
+            h.toCoefficients = readMatrix(g, "to_coefficients");
+            h.gradAtPoints = readMatrix(g, "grad_at_points");
+            h.viscous = readMatrix(g, "viscous");
+            for (const auto p : h5::readInts(g, "points")) h.points.push_back(p);
+            h.trainingError = h5::attrsJson(g).at("training_error");
+            const auto P = static_cast<Eigen::Index>(h.points.size()), K = m.flow.modes.cols();
+            if (P < 1 || h.toCoefficients.rows() != P || h.toCoefficients.cols() != P || h.gradAtPoints.rows() != 9 * P ||
+                h.gradAtPoints.cols() != K || h.viscous.rows() != K * K || h.viscous.cols() != P)
+                throw std::runtime_error("its hyper-reduction does not fit its modes");
+            for (const auto p : h.points)
+                if (p < 0 || p >= m.mesh.cells) throw std::runtime_error("its hyper-reduction names a cell outside its mesh");
+            m.hyper = std::move(h);
         }
         return m;
     });

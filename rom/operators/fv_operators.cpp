@@ -115,10 +115,14 @@ Eigen::VectorXd strainRate(const std::array<Vectors, 3>& g) {
     for (Eigen::Index c = 0; c < cells; ++c) {
         Eigen::Matrix3d t;  // t(i, j) = dU_j / dx_i, as OpenFOAM's grad(U)
         for (int j = 0; j < 3; ++j) t.col(j) = g[static_cast<size_t>(j)].row(c).transpose();
-        const Eigen::Matrix3d s = 0.5 * (t + t.transpose());
-        out[c] = std::sqrt(2.0) * std::sqrt((s.array() * s.array()).sum());
+        out[c] = strainRate(t);
     }
     return out;
+}
+
+double strainRate(const Eigen::Matrix3d& t) {
+    const Eigen::Matrix3d s = 0.5 * (t + t.transpose());
+    return std::sqrt(2.0) * std::sqrt((s.array() * s.array()).sum());
 }
 
 }  // namespace mixload::rom

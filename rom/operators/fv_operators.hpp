@@ -37,5 +37,7 @@ Vectors reconstruct(const FvMesh& m, const Eigen::VectorXd& faceFlux);
 Eigen::VectorXd strainRate(const FvMesh& m, const Vectors& U, const Vectors& boundaryU);
 // The same from the gradient's components (gradComponents).
 Eigen::VectorXd strainRate(const std::array<Vectors, 3>& gradU);
+// The same for one cell's grad(U) (t(i, j) = dU_j/dx_i).
+double strainRate(const Eigen::Matrix3d& t);
 
 }  // namespace mixload::rom

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "rom/hyper/deim.hpp"
+#include "rom/hyper/nnls.hpp"
 #include "rom/pod/pod.hpp"
 #include "rom/regression/pod_regression.hpp"
 
@@ -146,6 +147,40 @@ TEST(Deim, ExactInTheSpanOfItsBasisWithDistinctPoints) {
     const Eigen::VectorXd miss = g - q * (q.transpose() * g);
     EXPECT_LE(deim.relativeError(g) * g.norm(), (1 + deim.pInverse.norm()) * miss.norm() + 1e-12);
     EXPECT_THROW(buildDeim(Eigen::MatrixXd(q.leftCols(2).replicate(1, 2))), std::invalid_argument);
+}
+
+TEST(SparseNnls, FindsTheNonNegativeOptimumAndStopsAtItsTolerance) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(0, 1);
+    Eigen::MatrixXd G(60, 25);
+    for (Eigen::Index i = 0; i < G.size(); ++i) G.data()[i] = u(rng);
+    // A target made of three columns with positive weights: recovered exactly, nothing else active.
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(25);
+    w[3] = 2.0, w[11] = 0.5, w[20] = 1.25;
+    Eigen::VectorXd y = G * w;
+    auto s = mixload::rom::sparseNnls(G.transpose() * G, G.transpose() * y, y.squaredNorm(), 1e-10, 25);
+    ASSERT_EQ(s.columns.size(), 3u);
+    for (size_t i = 0; i < 3; ++i) EXPECT_NEAR(s.weights[static_cast<Eigen::Index>(i)], w[s.columns[i]], 1e-8);
+    EXPECT_LT(s.relativeResidual, 1e-10);
+    // A target whose unconstrained fit needs negative weights: every weight stays positive, and the
+    // residual is what the non-negative optimum leaves (its gradient has no ascent direction left).
+    y = G.col(0) - 0.8 * G.col(1) + 0.3 * G.col(2);
+    s = mixload::rom::sparseNnls(G.transpose() * G, G.transpose() * y, y.squaredNorm(), 1e-12, 25);
+    EXPECT_GT(s.weights.minCoeff(), 0.0);
+    Eigen::VectorXd full = Eigen::VectorXd::Zero(25);
+    for (size_t i = 0; i < s.columns.size(); ++i) full[s.columns[i]] = s.weights[static_cast<Eigen::Index>(i)];
+    EXPECT_LT((G.transpose() * (y - G * full)).maxCoeff(), 1e-8 * y.norm());
+    EXPECT_GT(s.relativeResidual, 1e-3);
+    // On the three-column target: capped at two columns it stops there, short of exact; with that
+    // residual as its tolerance it stops as early, within it.
+    y = G * w;
+    const auto capped = mixload::rom::sparseNnls(G.transpose() * G, G.transpose() * y, y.squaredNorm(), 1e-10, 2);
+    EXPECT_LE(capped.columns.size(), 2u);
+    EXPECT_GT(capped.relativeResidual, 1e-6);
+    const double tol = capped.relativeResidual * 1.001;
+    const auto loose = mixload::rom::sparseNnls(G.transpose() * G, G.transpose() * y, y.squaredNorm(), tol, 25);
+    EXPECT_LE(loose.relativeResidual, tol);
+    EXPECT_LE(loose.columns.size(), 2u);
 }
 
 TEST(PodRegression, ReproducesItsRunsAndInterpolatesASmoothFamily) {
