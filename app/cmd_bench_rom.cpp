@@ -57,7 +57,7 @@ void addBenchRom(CLI::App* bench, Action& action) {
     c->add_option("--modes", o->modes, "Flow modes of the Galerkin model")->capture_default_str();
     c->add_option("--pressure", o->pressure, "Galerkin pressure closure: lithostatic | recovered")->capture_default_str();
     c->add_option("--hyper-tolerance", o->hyperTolerance,
-                  "Also a Galerkin model with the mu(I) term hyper-reduced (ECSW) to this training error (0: not)")
+                  "Also a Galerkin model with the mu(I) and convection terms hyper-reduced (ECSW) to this training error (0: not)")
         ->capture_default_str();
     c->add_option("--out", o->out, "Directory (full runs resume from it)")->capture_default_str();
     c->add_flag("--json", o->json, "Print JSON");
@@ -92,8 +92,9 @@ void addBenchRom(CLI::App* bench, Action& action) {
                       << j["mean_seconds"]["kriging"].get<double>() << " s ("
                       << j["speedup"]["kriging"].get<double>() << "x)\n";
             if (!j["hyper"].is_null())
-                std::cout << "  Galerkin with the mu(I) term hyper-reduced at " << j["hyper"]["points"] << " cells (training error "
-                          << j["hyper"]["training_error"].get<double>() << "): " << j["hyper"]["mean_seconds"].get<double>() << " s ("
+                std::cout << "  Galerkin hyper-reduced: mu(I) term at " << j["hyper"]["points"] << " cells, convection at "
+                          << j["hyper"]["convection_points"] << " (training errors " << j["hyper"]["training_error"].get<double>()
+                          << ", " << j["hyper"]["convection_training_error"].get<double>() << "): " << j["hyper"]["mean_seconds"].get<double>() << " s ("
                           << j["hyper"]["speedup"].get<double>() << "x)\n";
             std::cout << "  offline: training runs "
                       << j["offline"]["full_runs_seconds"].get<double>() << " s, Galerkin build "

@@ -316,6 +316,7 @@ void addRom(CLI::App& app, Action& action) {
         ->capture_default_str();
     build->add_option("--hyper", bo->hyper, "How: ecsw (positive cubature weights) | deim (interpolated viscosity)")
         ->capture_default_str();
+    build->add_flag("--hyper-convection", bo->opt.hyperConvection, "Hyper-reduce the convection too (ecsw, same cap and tolerance)");
     build->add_option("--hyper-tolerance", bo->opt.hyperTolerance,
                       "ecsw: stop adding cells once the term's error on the training snapshots is this small")
         ->capture_default_str();
@@ -340,6 +341,9 @@ void addRom(CLI::App& app, Action& action) {
                                    {"hyper", model.hyper ? bo->hyper : "none"},
                                    {"hyper_points", model.hyper ? model.hyper->size() : 0},
                                    {"hyper_training_error", model.hyper ? nlohmann::json(model.hyper->trainingError) : nlohmann::json()},
+                                   {"hyper_convection_points", model.convectionHyper ? model.convectionHyper->size() : 0},
+                                   {"hyper_convection_training_error",
+                                    model.convectionHyper ? nlohmann::json(model.convectionHyper->trainingError) : nlohmann::json()},
                                    {"train_files", model.trainFiles.size()},
                                    {"train_times", model.trainTimes},
                                    {"build_seconds", model.buildSeconds},

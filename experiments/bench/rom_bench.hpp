@@ -30,7 +30,8 @@ struct RomBench {
     // cheapest full answers, measured against the same reference.
     std::vector<int> coarseCells;
     rom::CollapseGalerkinOptions options;
-    // A second Galerkin model with the mu(I) term hyper-reduced by ECSW to this training error (0: none).
+    // A second Galerkin model with the mu(I) and convection terms hyper-reduced by ECSW to this
+    // training error (0: none).
     double hyperTolerance = 0.01;
     std::filesystem::path out;
     bool progress = false;

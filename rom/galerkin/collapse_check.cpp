@@ -23,6 +23,8 @@ nlohmann::json hyperSummary(const CollapseGalerkin& rom, const CollapseTrajector
     return {{"hyper", rom.hyper->method == HyperMethod::deim ? "deim" : "ecsw"},
             {"hyper_points", rom.hyper->size()},
             {"hyper_training_error", rom.hyper->trainingError},
+            {"hyper_convection_points", rom.convectionHyper ? rom.convectionHyper->size() : 0},
+            {"hyper_convection_training_error", rom.convectionHyper ? nlohmann::json(rom.convectionHyper->trainingError) : nlohmann::json()},
             {"hyper_term_error_mean", mean},
             {"hyper_term_error_max", worst}};
 }

@@ -107,9 +107,10 @@ Eigen::VectorXd CollapseFlow::rate(const Frozen& z, const Eigen::VectorXd& a) co
 Eigen::VectorXd CollapseFlow::projectedForce(const Frozen& z, const Eigen::VectorXd& a) const {
     const Eigen::MatrixXd& Psi = r_.flow.modes;
     if (!r_.hyper) return Psi.transpose() * faceForce(z, a);
+    const Eigen::VectorXd viscousTerm = r_.hyper->projected(hyperViscosity(z, a), a);
+    if (r_.convectionHyper) return r_.convectionHyper->projected(z.rhoC, a) + viscousTerm;
     const Vectors U = cellVelocity(a);
-    return Psi.transpose() * faceProject(convection(z, a, U, boundaryVelocity(U))) +
-           r_.hyper->projected(hyperViscosity(z, a), a);
+    return Psi.transpose() * faceProject(convection(z, a, U, boundaryVelocity(U))) + viscousTerm;
 }
 
 Eigen::VectorXd CollapseFlow::mixtureViscosity(const Eigen::VectorXd& alpha, const Eigen::VectorXd& nuPowder) const {

@@ -59,6 +59,7 @@ struct CollapseGalerkinOptions {
     int hyperPoints = 0;          // hyper-reduce the mu(I) viscous term at at most this many cells (0: on the whole mesh)
     HyperMethod hyperMethod = HyperMethod::ecsw;
     double hyperTolerance = 0.01; // ECSW: stop adding cells once the term's training error is this small
+    bool hyperConvection = false; // hyper-reduce the convection too (ECSW, same points cap and tolerance)
     int trainEvery = 1;           // train on every k-th stored time (the rest are held out)
     double courant = 0.3;         // of the transport step
     double cAlpha = 1;            // interface compression (the case's cAlpha)
@@ -93,6 +94,7 @@ struct CollapseGalerkin {
     std::optional<PodBasis> alpha;
     Eigen::VectorXd alphaLift;    // alpha = alphaLift + X b (reduced alpha)
     std::optional<ViscousHyper> hyper;  // the mu(I) viscous term at a few cells (collapse_hyper)
+    std::optional<ConvectionHyper> convectionHyper;  // the convection at a few cells
     CollapseGalerkinOptions options;
     std::string meshFingerprint;
     std::vector<std::string> trainFiles;
@@ -112,8 +114,8 @@ struct CollapseTrajectory {
     std::vector<double> times;
     std::vector<Eigen::VectorXd> alpha, flow;  // per output time: alpha on the mesh, flow coefficients
     std::vector<Eigen::VectorXd> pressure;     // per output time: the pressure the mu(I) law read
-    // Hyper-reduced model, per output time: the relative error of its projected viscous term
-    // against the term on the whole mesh, for the model's own state.
+    // Hyper-reduced model, per output time: the relative error of its projected convection and
+    // viscous terms against the same on the whole mesh, for the model's own state.
     std::vector<double> hyperTermError;
     std::vector<double> kineticEnergy, powderVolume;
     long steps = 0, odeSteps = 0, rhsEvaluations = 0, jacobianEvaluations = 0;

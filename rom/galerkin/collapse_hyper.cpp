@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "common/input_error.hpp"
 #include "rom/galerkin/collapse_flow.hpp"
@@ -27,6 +28,41 @@ Eigen::VectorXd ViscousHyper::projected(const Eigen::VectorXd& muAtPoints, const
     const Eigen::VectorXd v = viscous * (toCoefficients * muAtPoints);
     return Eigen::Map<const Eigen::MatrixXd>(v.data(), k, k) * a;
 }
+
+namespace {
+// Energy-conserving sampling and weighting over training snapshots: share(j) is the K x C matrix of
+// each cell's share of snapshot j's projected term. Snapshots whose term vanishes (at rest) are
+// skipped; each other's block is scaled by its own norm so that every snapshot counts alike. Returns
+// the kept cells with their weights and the RMS relative error over the snapshots.
+std::pair<SparseNnls, double> ecsw(Eigen::Index N, const std::function<Eigen::MatrixXd(Eigen::Index)>& share, double tolerance,
+                                   Eigen::Index maxCells) {
+    std::vector<Eigen::MatrixXd> shares;
+    double largest = 0;
+    for (Eigen::Index j = 0; j < N; ++j) {
+        shares.push_back(share(j));
+        largest = std::max(largest, shares.back().rowwise().sum().norm());
+    }
+    std::vector<size_t> used;
+    for (size_t j = 0; j < shares.size(); ++j)
+        if (shares[j].rowwise().sum().norm() > 1e-9 * largest) used.push_back(j);
+    if (used.empty()) throw InputError("training snapshots", std::to_string(N), "snapshots with a moving flow");
+    const Eigen::Index K = shares.front().rows(), C = shares.front().cols();
+    Eigen::MatrixXd Gm(K * static_cast<Eigen::Index>(used.size()), C);
+    for (size_t i = 0; i < used.size(); ++i) {
+        auto& b = shares[used[i]];
+        Gm.middleRows(static_cast<Eigen::Index>(i) * K, K) = b / b.rowwise().sum().norm();
+        b.resize(0, 0);  // only Gm is needed from here on
+    }
+    const Eigen::VectorXd y = Gm.rowwise().sum();
+    const SparseNnls w = sparseNnls(Gm.transpose() * Gm, Gm.transpose() * y, y.squaredNorm(), tolerance, std::min(maxCells, C));
+    Eigen::VectorXd full = Eigen::VectorXd::Zero(C);
+    for (size_t e = 0; e < w.columns.size(); ++e) full[w.columns[e]] = w.weights[static_cast<Eigen::Index>(e)];
+    const Eigen::VectorXd r = Gm * full - y;
+    double sum = 0;  // every block of y has norm 1
+    for (size_t i = 0; i < used.size(); ++i) sum += r.segment(static_cast<Eigen::Index>(i) * K, K).squaredNorm();
+    return {w, std::sqrt(sum / static_cast<double>(used.size()))};
+}
+}  // namespace
 
 ViscousHyper buildViscousHyper(const CollapseFlow& flow, const HyperTraining& tr, HyperMethod method, int points,
                                double tolerance) {
@@ -58,20 +94,11 @@ ViscousHyper buildViscousHyper(const CollapseFlow& flow, const HyperTraining& tr
     const auto applied = [&](Eigen::Index c, const Eigen::VectorXd& a) {
         return Eigen::Map<const Eigen::MatrixXd>(B.col(c).data(), K, K) * a;
     };
-    // The exact projected term of each training snapshot; snapshots at rest carry none and are skipped.
-    std::vector<Eigen::Index> used;
-    std::vector<Eigen::VectorXd> exact;
-    double largest = 0;
-    for (Eigen::Index j = 0; j < N; ++j) {
-        Eigen::VectorXd f = Eigen::VectorXd::Zero(K);
-        for (Eigen::Index c = 0; c < C; ++c) f += tr.mu(c, j) * applied(c, tr.flow.col(j));
-        exact.push_back(f);
-        largest = std::max(largest, f.norm());
-    }
-    for (Eigen::Index j = 0; j < N; ++j)
-        if (exact[static_cast<size_t>(j)].norm() > 1e-9 * largest) used.push_back(j);
-    if (used.empty()) throw InputError("training snapshots", std::to_string(N), "snapshots with a moving flow");
-
+    const auto share = [&](Eigen::Index j) {
+        Eigen::MatrixXd s(K, C);
+        for (Eigen::Index c = 0; c < C; ++c) s.col(c) = tr.mu(c, j) * applied(c, tr.flow.col(j));
+        return s;
+    };
     ViscousHyper h;
     h.method = method;
     if (method == HyperMethod::deim) {
@@ -87,23 +114,24 @@ ViscousHyper buildViscousHyper(const CollapseFlow& flow, const HyperTraining& tr
         h.points = d.points;
         h.toCoefficients = d.pInverse;
         h.viscous = B * pod.modes;
-    } else {
-        // Each snapshot's block scaled by its own norm, so that every snapshot counts alike.
-        Eigen::MatrixXd Gm(K * static_cast<Eigen::Index>(used.size()), C);
-        Eigen::VectorXd y(Gm.rows());
-        for (size_t i = 0; i < used.size(); ++i) {
-            const Eigen::Index j = used[i];
-            const double s = 1 / exact[static_cast<size_t>(j)].norm();
-            const auto row = static_cast<Eigen::Index>(i) * K;
-            for (Eigen::Index c = 0; c < C; ++c) Gm.col(c).segment(row, K) = s * tr.mu(c, j) * applied(c, tr.flow.col(j));
-            y.segment(row, K) = s * exact[static_cast<size_t>(j)];
+        // The term's own error on the training snapshots, before any reduced model runs on it.
+        double sum = 0;
+        Eigen::Index n = 0;
+        for (Eigen::Index j = 0; j < N; ++j) {
+            const Eigen::VectorXd f = share(j).rowwise().sum();
+            if (!(f.norm() > 0)) continue;
+            const Eigen::VectorXd muP = d.sample(tr.mu.col(j));
+            sum += (h.projected(muP, tr.flow.col(j)) - f).squaredNorm() / f.squaredNorm();
+            ++n;
         }
-        const Eigen::MatrixXd gram = Gm.transpose() * Gm;
-        const SparseNnls w = sparseNnls(gram, Gm.transpose() * y, y.squaredNorm(), tolerance, std::min<Eigen::Index>(points, C));
+        h.trainingError = std::sqrt(sum / static_cast<double>(std::max<Eigen::Index>(n, 1)));
+    } else {
+        const auto [w, error] = ecsw(N, share, tolerance, points);
         h.points = w.columns;
         h.toCoefficients = w.weights.asDiagonal();
         h.viscous.resize(K * K, static_cast<Eigen::Index>(w.columns.size()));
         for (size_t e = 0; e < w.columns.size(); ++e) h.viscous.col(static_cast<Eigen::Index>(e)) = B.col(w.columns[e]);
+        h.trainingError = error;
     }
     const auto P = static_cast<Eigen::Index>(h.points.size());
     h.gradAtPoints.resize(9 * P, K);
@@ -112,15 +140,90 @@ ViscousHyper buildViscousHyper(const CollapseFlow& flow, const HyperTraining& tr
             for (int i = 0; i < 3; ++i)
                 for (int j = 0; j < 3; ++j)
                     h.gradAtPoints(9 * p + 3 * i + j, k) = G[static_cast<size_t>(k)][static_cast<size_t>(j)](h.points[static_cast<size_t>(p)], i);
-    // The term's own error on the training snapshots, before any reduced model runs on it.
-    double sum = 0;
-    for (const Eigen::Index j : used) {
-        Eigen::VectorXd muP(P);
-        for (Eigen::Index p = 0; p < P; ++p) muP[p] = tr.mu(h.points[static_cast<size_t>(p)], j);
-        const auto& f = exact[static_cast<size_t>(j)];
-        sum += (h.projected(muP, tr.flow.col(j)) - f).squaredNorm() / f.squaredNorm();
+    return h;
+}
+
+Eigen::VectorXd ConvectionHyper::projected(const Eigen::VectorXd& rho, const Eigen::VectorXd& a) const {
+    const Eigen::VectorXd q = faceFlux * a, u = faceVelocity * a;
+    Eigen::VectorXd conv(3 * size());
+    for (Eigen::Index e = 0; e < size(); ++e) {
+        Eigen::Vector3d c = Eigen::Vector3d::Zero();
+        for (Eigen::Index f = faceStart[static_cast<size_t>(e)]; f < faceStart[static_cast<size_t>(e) + 1]; ++f) c += q[f] * u.segment<3>(3 * f);
+        conv.segment<3>(3 * e) = -rho[cells[static_cast<size_t>(e)]] * c;
     }
-    h.trainingError = std::sqrt(sum / static_cast<double>(used.size()));
+    return project * conv;
+}
+
+ConvectionHyper buildConvectionHyper(const CollapseFlow& flow, const HyperTraining& tr, int points, double tolerance) {
+    const CollapseGalerkin& r = flow.model();
+    const FvMesh& m = r.mesh;
+    const Eigen::MatrixXd& Psi = r.flow.modes;
+    const Eigen::Index K = Psi.cols(), C = m.cells, N = tr.flow.cols();
+    requireRange("hyper-points", points, 1, 1e9);
+    requireRange("hyper-tolerance", tolerance, 0.0, 1.0, false);
+    // Each cell's faces with the cell's side (+1 owner, -1 neighbour) and share of the face's
+    // interpolation (the owner's weight, 1 - it for the neighbour, 1 on a boundary face).
+    struct Side { Eigen::Index face; double sign, share; };
+    std::vector<std::vector<Side>> sides(static_cast<size_t>(C));
+    for (Eigen::Index f = 0; f < m.faces(); ++f) {
+        const bool internal = f < m.internalFaces;
+        sides[static_cast<size_t>(m.owner[f])].push_back({f, 1.0, internal ? m.weights[f] : 1.0});
+        if (internal) sides[static_cast<size_t>(m.neighbour[f])].push_back({f, -1.0, 1 - m.weights[f]});
+    }
+    // Each mode's face velocity (linear interpolation, the walls' boundary values).
+    Eigen::MatrixXd faceU(3 * m.faces(), K);
+    for (Eigen::Index k = 0; k < K; ++k) {
+        const Vectors U = asVectors(r.cellU.col(k)), Ub = flow.boundaryVelocity(U);
+        for (int j = 0; j < 3; ++j) {
+            const Eigen::VectorXd uf = interpolate(m, U.col(j), Ub.col(j));
+            for (Eigen::Index f = 0; f < m.faces(); ++f) faceU(3 * f + j, k) = uf[f];
+        }
+    }
+    // P_c / V_c: cell c's acceleration onto the modes through the face projection.
+    const Eigen::VectorXd Vf = m.magSf.cwiseQuotient(m.deltaCoeffs);
+    std::vector<Eigen::MatrixXd> P(static_cast<size_t>(C));
+    for (Eigen::Index c = 0; c < C; ++c) {
+        auto& pc = P[static_cast<size_t>(c)];
+        pc = Eigen::MatrixXd::Zero(K, 3);
+        for (const auto& s : sides[static_cast<size_t>(c)])
+            pc += Psi.row(s.face).transpose() * (Vf[s.face] / m.magSf[s.face] * s.share / m.V[c]) * m.Sf.row(s.face);
+    }
+    // Cell c's share of snapshot j's projected convection: -rho_c P_c / V_c sum_f +-phi_f U_f.
+    const auto cellShare = [&](Eigen::Index c, const Eigen::VectorXd& q, const Eigen::VectorXd& u, double rhoC) {
+        Eigen::Vector3d acc = Eigen::Vector3d::Zero();
+        for (const auto& s : sides[static_cast<size_t>(c)]) acc += s.sign * q[s.face] * u.segment<3>(3 * s.face);
+        return Eigen::VectorXd(-rhoC * (P[static_cast<size_t>(c)] * acc));
+    };
+    const auto share = [&](Eigen::Index j) {
+        const Eigen::VectorXd a = tr.flow.col(j);
+        const Eigen::VectorXd q = m.magSf.cwiseProduct(Psi * a), u = faceU * a;
+        Eigen::MatrixXd s(K, C);
+        for (Eigen::Index c = 0; c < C; ++c) s.col(c) = cellShare(c, q, u, tr.rho(c, j));
+        return s;
+    };
+    const auto [w, error] = ecsw(N, share, tolerance, points);
+    ConvectionHyper h;
+    h.cells = w.columns;
+    h.trainingError = error;
+    const auto E = static_cast<Eigen::Index>(w.columns.size());
+    h.project.resize(K, 3 * E);
+    h.faceStart.push_back(0);
+    std::vector<Eigen::Index> faces;
+    std::vector<double> signs;
+    for (Eigen::Index e = 0; e < E; ++e) {
+        const Eigen::Index c = w.columns[static_cast<size_t>(e)];
+        h.project.middleCols(3 * e, 3) = w.weights[e] * P[static_cast<size_t>(c)];
+        for (const auto& s : sides[static_cast<size_t>(c)]) faces.push_back(s.face), signs.push_back(s.sign);
+        h.faceStart.push_back(static_cast<Eigen::Index>(faces.size()));
+    }
+    const auto F = static_cast<Eigen::Index>(faces.size());
+    h.faceFlux.resize(F, K);
+    h.faceVelocity.resize(3 * F, K);
+    for (Eigen::Index i = 0; i < F; ++i) {
+        const Eigen::Index f = faces[static_cast<size_t>(i)];
+        h.faceFlux.row(i) = signs[static_cast<size_t>(i)] * m.magSf[f] * Psi.row(f);
+        h.faceVelocity.middleRows(3 * i, 3) = faceU.middleRows(3 * f, 3);
+    }
     return h;
 }
 

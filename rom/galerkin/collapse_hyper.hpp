@@ -14,7 +14,12 @@
 // - ECSW (energy-conserving sampling and weighting): F ~ sum_{e in E} w_e mu_e B_e a with positive
 //   weights w_e found by non-negative least squares on the training snapshots, so each kept cell
 //   contributes with the sign its full-mesh counterpart has.
-// Either way a flow evaluation needs the law at the points only; the convection stays on the mesh.
+// Either way a flow evaluation needs the law at the points only.
+//
+// The convection, -rho (U.grad)U, is a sum over cells too: cell c's share of its projection is
+// -rho_c P_c conv_c(a), with conv_c = (1/V_c) sum_{f of c} +-phi_f(a) U_f(a) quadratic in a and
+// P_c (K x 3) how the face projection spreads cell c's acceleration onto the modes. ECSW keeps a few
+// cells with positive weights; each needs only its own faces' flux and face velocity per mode.
 #pragma once
 
 #include <vector>
@@ -42,8 +47,22 @@ struct ViscousHyper {
     Eigen::VectorXd projected(const Eigen::VectorXd& muAtPoints, const Eigen::VectorXd& a) const;
 };
 
+struct ConvectionHyper {
+    std::vector<Eigen::Index> cells;     // the kept cells
+    std::vector<Eigen::Index> faceStart; // cell e's faces are rows faceStart[e] .. faceStart[e + 1] - 1 below
+    Eigen::MatrixXd faceFlux;            // F x K: +-|Sf| Psi_f (+ where the cell owns the face)
+    Eigen::MatrixXd faceVelocity;        // 3 F x K: the face velocity of each mode (rows 3 f .. 3 f + 2)
+    Eigen::MatrixXd project;             // K x 3 E: w_e P_e / V_e
+    double trainingError = 0;
+
+    int size() const { return static_cast<int>(cells.size()); }
+    // The projected convection for the cell densities rho (on the whole mesh; read at the kept cells).
+    Eigen::VectorXd projected(const Eigen::VectorXd& rho, const Eigen::VectorXd& a) const;
+};
+
 struct HyperTraining {
     Eigen::MatrixXd mu;     // cells x N: the mixture viscosity of each training snapshot, as the model evaluates it
+    Eigen::MatrixXd rho;    // cells x N: its density
     Eigen::MatrixXd flow;   // K x N: the snapshot's flow coefficients
 };
 
@@ -51,5 +70,7 @@ struct HyperTraining {
 // training snapshots) or `points` cells, whichever comes first.
 ViscousHyper buildViscousHyper(const CollapseFlow& flow, const HyperTraining& training, HyperMethod method, int points,
                                double tolerance);
+// ECSW of the convection on the same snapshots.
+ConvectionHyper buildConvectionHyper(const CollapseFlow& flow, const HyperTraining& training, int points, double tolerance);
 
 }  // namespace mixload::rom

@@ -22,7 +22,7 @@ nlohmann::json buildOptions(const CollapseGalerkinOptions& o) {
     return {{"modes", o.modes},           {"energy", o.energy},         {"reduced_alpha", o.reducedAlpha},
             {"alpha_modes", o.alphaModes}, {"alpha_energy", o.alphaEnergy}, {"train_every", o.trainEvery},
             {"hyper_points", o.hyperPoints}, {"hyper_method", o.hyperMethod == HyperMethod::deim ? "deim" : "ecsw"},
-            {"hyper_tolerance", o.hyperTolerance}};
+            {"hyper_tolerance", o.hyperTolerance}, {"hyper_convection", o.hyperConvection}};
 }
 
 std::vector<double> rowMajor(const Eigen::MatrixXd& m) {  // m's columns become rows
@@ -64,6 +64,16 @@ void writeCollapseModel(const CollapseGalerkin& m, const store::CaseFile& source
             h5::write(g, "points", std::vector<int32_t>(m.hyper->points.begin(), m.hyper->points.end()));
             h5::attr(g, "training_error", m.hyper->trainingError);
         }
+        if (m.convectionHyper) {
+            const auto& c = *m.convectionHyper;
+            const auto g = h5::createGroup(f, "hyper_convection");
+            h5::write(g, "cells", std::vector<int32_t>(c.cells.begin(), c.cells.end()));
+            h5::write(g, "face_start", std::vector<int32_t>(c.faceStart.begin(), c.faceStart.end()));
+            writeMatrix(g, "face_flux", c.faceFlux);
+            writeMatrix(g, "face_velocity", c.faceVelocity);
+            writeMatrix(g, "project", c.project);
+            h5::attr(g, "training_error", c.trainingError);
+        }
     });
 }
 
@@ -90,6 +100,7 @@ CollapseGalerkin readCollapseModel(const fs::path& file) {
         m.options.hyperPoints = o.value("hyper_points", 0);
         m.options.hyperMethod = o.value("hyper_method", "ecsw") == "deim" ? HyperMethod::deim : HyperMethod::ecsw;
         m.options.hyperTolerance = o.value("hyper_tolerance", 0.01);
+        m.options.hyperConvection = o.value("hyper_convection", false);
         m.cellU = readMatrix(f.handle(), "cell_velocity");
         if (m.flow.modes.rows() != m.mesh.faces() || m.cellU.rows() != 3 * m.mesh.cells || m.cellU.cols() != m.flow.modes.cols())
             throw std::runtime_error("its bases do not fit its mesh");
@@ -114,6 +125,24 @@ CollapseGalerkin readCollapseModel(const fs::path& file) {
             for (const auto p : h.points)
                 if (p < 0 || p >= m.mesh.cells) throw std::runtime_error("its hyper-reduction names a cell outside its mesh");
             m.hyper = std::move(h);
+        }
+        if (m.options.hyperConvection) {
+            const auto g = h5::openGroup(f.handle(), "hyper_convection");
+            ConvectionHyper c;
+            for (const auto i : h5::readInts(g, "cells")) c.cells.push_back(i);
+            for (const auto i : h5::readInts(g, "face_start")) c.faceStart.push_back(i);
+            c.faceFlux = readMatrix(g, "face_flux");
+            c.faceVelocity = readMatrix(g, "face_velocity");
+            c.project = readMatrix(g, "project");
+            c.trainingError = h5::attrsJson(g).at("training_error");
+            const auto E = static_cast<Eigen::Index>(c.cells.size()), K = m.flow.modes.cols();
+            const Eigen::Index F = c.faceStart.empty() ? -1 : c.faceStart.back();
+            if (E < 1 || static_cast<Eigen::Index>(c.faceStart.size()) != E + 1 || c.faceFlux.rows() != F || c.faceFlux.cols() != K ||
+                c.faceVelocity.rows() != 3 * F || c.faceVelocity.cols() != K || c.project.rows() != K || c.project.cols() != 3 * E)
+                throw std::runtime_error("its hyper-reduced convection does not fit its modes");
+            for (const auto i : c.cells)
+                if (i < 0 || i >= m.mesh.cells) throw std::runtime_error("its hyper-reduced convection names a cell outside its mesh");
+            m.convectionHyper = std::move(c);
         }
         return m;
     });
