@@ -338,7 +338,12 @@ nlohmann::json runRomBench(const RomBench& b) {
     std::vector<ParetoMethod> byTime = methods;
     std::sort(byTime.begin(), byTime.end(), [](const auto& a, const auto& c) { return a.seconds < c.seconds; });
     const double floor = 1e-4;
-    for (const auto& m : byTime) pdat << m.seconds << ' ' << std::max(m.error, floor) << " \"" << m.name << "\" " << (m.front ? 1 : 0) << '\n';
+    // Labels alternately above and below their points: neighbours in time often share an error.
+    for (size_t i = 0; i < byTime.size(); ++i) {
+        const auto& m = byTime[i];
+        pdat << m.seconds << ' ' << std::max(m.error, floor) << " \"" << m.name << "\" " << (m.front ? 1 : 0) << ' '
+             << (i % 2 == 0 ? 1.7 : 0.55) << '\n';
+    }
     pdat << "\n\n";
     for (const auto& m : byTime)
         if (m.front) pdat << m.seconds << ' ' << std::max(m.error, floor) << '\n';
@@ -355,7 +360,7 @@ nlohmann::json runRomBench(const RomBench& b) {
         << "set title 'Collapse: time against error, " << held.size() << " held-out runs (reference drawn at " << floor << ")'\n"
         << "set offsets graph 0.1, graph 0.3, graph 0.2, graph 0.2\nset key bottom left\n"
         << "plot 'pareto.dat' index 0 using 1:2 with points pt 7 ps 1.5 lc 'blue' title 'methods', "
-        << "'' index 0 using 1:2:3 with labels offset 0,1 font ',9' notitle, "
+        << "'' index 0 using 1:($2*$5):3 with labels font ',9' notitle, "
         << "'' index 1 using 1:2 with steps lw 2 lc 'red' title 'Pareto front'\n";
     const std::string pwarn = runGnuplot(b.out, "pareto.gp", pgp.str());
     out["pareto"] = pareto;
