@@ -505,8 +505,10 @@ void addRom(CLI::App& app, Action& action) {
             std::cout << std::setprecision(3) << "POD regression of " << j["campaign"].get<std::string>() << " ("
                       << j["scene"].get<std::string>() << ", " << j["runs"] << " runs, " << j["cells"] << " cells, inputs "
                       << j["inputs"].dump() << "), each run left out in turn\n  final alpha error mean "
-                      << j["alpha_error_mean"].get<double>() << ", " << 1e3 * j["predict_seconds"].get<double>()
-                      << " ms per prediction\n";
+                      << j["alpha_error_mean"].get<double>();
+            if (!j["u_error_mean"].is_null()) std::cout << ", final U error mean " << j["u_error_mean"].get<double>();
+            else std::cout << " (U: " << j["velocity"].get<std::string>() << ")";
+            std::cout << ", " << 1e3 * j["predict_seconds"].get<double>() << " ms per prediction\n";
             for (const auto& [q, s] : j["summary"].items())
                 std::cout << "  " << q << ": mean |error| POD regression " << 100 * s["pod_regression_mean_abs_error"].get<double>()
                           << "%, kriging " << 100 * s["kriging_mean_abs_error"].get<double>() << "% (the stored field itself "

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "store/campaign_fields.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <optional>
 
@@ -33,6 +35,11 @@ double bulkDensityOf(const CaseFile& f) {
     return p.contains("material.bulk_density_kg_m3") ? p["material.bulk_density_kg_m3"].get<double>() : 0.0;
 }
 
+bool hasVelocity(const SnapshotFile& f) {
+    const auto names = f.fields();
+    return std::find(names.begin(), names.end(), "U") != names.end();
+}
+
 bool hasSnapshots(const LedgerRun& r) { return !r.runDir.empty() && fs::exists(fs::path(r.runDir) / "snapshots.h5"); }
 
 }  // namespace
@@ -42,45 +49,60 @@ fs::path campaignFieldsFile(const fs::path& ledger) { return ledger.parent_path(
 nlohmann::json keepCampaignFields(const fs::path& ledger, const std::string& campaign) {
     const auto runs = finishedCampaignRuns(ledger, campaign);
     const Kept kept = readKept(ledger);
+    const bool keptU = kept.file && hasVelocity(*kept.file);
     std::vector<double> indices;
-    std::vector<Eigen::VectorXd> columns;
+    std::vector<Eigen::VectorXd> alphas, velocities;
     nlohmann::json records = nlohmann::json::array();
     std::optional<SnapshotFile> source;
     if (kept.file) source.emplace(kept.file->path());
-    int added = 0;
+    int added = 0, upgraded = 0;
+    const auto cells = [&] { return source ? source->cells() : 0; };
     for (const auto& r : runs) {
         const auto it = kept.byIndex.find(r.index);
-        if (it != kept.byIndex.end()) {
+        const bool inKept = it != kept.byIndex.end();
+        const bool keptWithU = inKept && it->second.second.value("velocity", false);
+        if (inKept && (keptWithU || !hasSnapshots(r))) {
             indices.push_back(r.index);
-            columns.push_back(kept.file->column("alpha", it->second.first));
+            alphas.push_back(kept.file->column("alpha", it->second.first));
+            velocities.push_back(keptU ? kept.file->column("U", it->second.first)
+                                       : Eigen::VectorXd::Constant(3 * cells(), std::nan("")));
             records.push_back(it->second.second);
             continue;
         }
         if (!hasSnapshots(r)) continue;
+        // A new run, or a kept one whose directory still holds the velocity the file lacks.
         const SnapshotFile f(fs::path(r.runDir) / "snapshots.h5");
         if (!source) source.emplace(f.path());
         if (f.meshFingerprint() != source->meshFingerprint())
             throw InputError("campaign", campaign, "runs on one mesh (" + f.path().string() + " differs)");
+        const size_t last = f.times().size() - 1;
+        const bool withU = hasVelocity(f);
         indices.push_back(r.index);
-        columns.push_back(f.column("alpha", f.times().size() - 1));
+        alphas.push_back(f.column("alpha", last));
+        velocities.push_back(withU ? f.column("U", last) : Eigen::VectorXd::Constant(3 * cells(), std::nan("")));
         records.push_back({{"index", r.index},
                            {"scene_hash", r.params.value("scene_hash", std::string())},
                            {"time_s", f.times().back()},
-                           {"bulk_density_kg_m3", bulkDensityOf(f)}});
-        ++added;
+                           {"bulk_density_kg_m3", bulkDensityOf(f)},
+                           {"velocity", withU}});
+        ++(inKept ? upgraded : added);
     }
     const fs::path file = campaignFieldsFile(ledger);
-    if (columns.empty()) throw InputError("campaign", campaign, "finished runs with snapshots to keep (campaign run --snapshots)");
-    if (added > 0) {
-        Eigen::MatrixXd alpha(columns.front().size(), static_cast<Eigen::Index>(columns.size()));
-        for (size_t i = 0; i < columns.size(); ++i) alpha.col(static_cast<Eigen::Index>(i)) = columns[i];
-        writeDerivedSnapshots(*source, indices, {{"alpha", alpha}},
+    if (alphas.empty()) throw InputError("campaign", campaign, "finished runs with snapshots to keep (campaign run --snapshots)");
+    if (added + upgraded > 0) {
+        const auto n = static_cast<Eigen::Index>(alphas.size());
+        Eigen::MatrixXd alpha(alphas.front().size(), n), U(3 * alphas.front().size(), n);
+        for (Eigen::Index i = 0; i < n; ++i) {
+            alpha.col(i) = alphas[static_cast<size_t>(i)];
+            U.col(i) = velocities[static_cast<size_t>(i)];
+        }
+        writeDerivedSnapshots(*source, indices, {{"alpha", alpha}, {"U", U}},
                               {{"kind", "campaign final fields"},
                                {"campaign", campaign},
                                {"kept_runs", records.dump()}},
                               file);
     }
-    return {{"file", file.string()}, {"kept", columns.size()}, {"added", added}};
+    return {{"file", file.string()}, {"kept", alphas.size()}, {"added", added}, {"velocity_added", upgraded}};
 }
 
 FinalFields campaignFinalFields(const fs::path& ledger, const std::string& campaign) {
@@ -97,10 +119,13 @@ FinalFields campaignFinalFields(const fs::path& ledger, const std::string& campa
         if (hasSnapshots(r)) {
             const SnapshotFile f(fs::path(r.runDir) / "snapshots.h5");
             sameMesh(f);
-            out.runs.push_back({r, f.column("alpha", f.times().size() - 1), bulkDensityOf(f)});
+            const size_t last = f.times().size() - 1;
+            out.runs.push_back({r, f.column("alpha", last), hasVelocity(f) ? f.column("U", last) : Eigen::VectorXd(), bulkDensityOf(f)});
         } else if (const auto it = kept.byIndex.find(r.index); it != kept.byIndex.end()) {
             sameMesh(*kept.file);
+            const bool withU = it->second.second.value("velocity", false);
             out.runs.push_back({r, kept.file->column("alpha", it->second.first),
+                                withU ? kept.file->column("U", it->second.first) : Eigen::VectorXd(),
                                 it->second.second.value("bulk_density_kg_m3", 0.0)});
         }
     }

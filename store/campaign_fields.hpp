@@ -2,7 +2,8 @@
 // The final fields of a campaign's runs, kept beside its ledger so that they outlive the run
 // directories (a machine that comes back without them; a ledger shipped in data/). One snapshot
 // file, <campaign dir>/fields.h5: the mesh once and, per kept run, its last stored powder fraction
-// as one column (its "time" is the run's index in the design). Measured on the CI test's 1 cm
+// and velocity as one column each (its "time" is the run's index in the design; the velocity is NaN
+// for a run kept before velocities were, whose directory is gone). Measured on the CI test's 1 cm
 // gcm250 campaign (5 929 cells): 0.68 MB for three runs, of which the mesh is 0.56 MB and each run
 // 0.02 MB, against a few MB for a run's own snapshots.h5.
 #pragma once
@@ -27,6 +28,7 @@ nlohmann::json keepCampaignFields(const std::filesystem::path& ledger, const std
 struct FinalField {
     LedgerRun run;
     Eigen::VectorXd alpha;     // the last stored powder fraction, one value per cell
+    Eigen::VectorXd U;         // the velocity at the same time, 3 per cell; empty when not kept
     double bulkDensity = 0;    // [kg/m3] (mixer runs; 0 for a collapse)
 };
 

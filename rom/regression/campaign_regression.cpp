@@ -37,6 +37,8 @@ struct CampaignFields {
     std::optional<store::SnapshotFile> source;  // the shared mesh and the scene's params
     std::vector<std::string> inputs, qois;
     Eigen::MatrixXd X, F, Q;
+    Eigen::MatrixXd U;        // 3 cells x runs: the velocities, when every run kept one
+    Eigen::VectorXd wU;       // their weights: each cell's volume for each component
     std::vector<double> rho;  // mixer: each run's bulk density
     bool mixer = false;
     std::string scene;
@@ -75,6 +77,13 @@ struct CampaignFields {
             for (size_t q = 0; q < c.qois.size(); ++q) c.Q(i, static_cast<Eigen::Index>(q)) = f.run.result.at(c.qois[q]).get<double>();
             c.rho.push_back(c.mixer ? f.bulkDensity : 0.0);
         }
+        bool everyU = true;
+        for (const auto& f : finals.runs) everyU = everyU && f.U.size() == 3 * c.mesh.cells && f.U.allFinite();
+        if (everyU) {
+            c.U.resize(3 * c.mesh.cells, n);
+            for (Eigen::Index i = 0; i < n; ++i) c.U.col(i) = finals.runs[static_cast<size_t>(i)].U;
+            c.wU = c.mesh.V.replicate(1, 3).transpose().reshaped();
+        }
         return c;
     }
 
@@ -93,7 +102,7 @@ nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string
     const auto n = X.rows(), d = X.cols();
     nlohmann::json rows = nlohmann::json::array();
     std::vector<double> regErr(c.qois.size(), 0), krigErr(c.qois.size(), 0), fieldErr(c.qois.size(), 0);
-    double alphaErr = 0, predictSeconds = 0;
+    double alphaErr = 0, uErr = 0, predictSeconds = 0;
     const auto box = surrogates::UnitBox::of(X);
     for (Eigen::Index i = 0; i < n; ++i) {
         const Eigen::MatrixXd Xt = without(X, i);
@@ -107,6 +116,13 @@ nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string
         const double aErr = std::sqrt((alpha - c.F.col(i)).cwiseAbs2().dot(c.mesh.V) / c.F.col(i).cwiseAbs2().dot(c.mesh.V));
         alphaErr += aErr / static_cast<double>(n);
         nlohmann::json row{{"run", c.runs[static_cast<size_t>(i)].index}, {"alpha_error", aErr}, {"modes", reg.modes()}};
+        if (c.U.size() > 0) {
+            const Eigen::MatrixXd Ut = without(c.U.transpose(), i).transpose();
+            const Eigen::VectorXd u = PodRegression::fit(Xt, Ut, c.wU, o.modes, o.energy).predict(X.row(i).transpose());
+            const double e = std::sqrt((u - c.U.col(i)).cwiseAbs2().dot(c.wU) / c.U.col(i).cwiseAbs2().dot(c.wU));
+            row["u_error"] = e;
+            uErr += e / static_cast<double>(n);
+        }
         for (Eigen::Index k = 0; k < d; ++k) row[c.inputs[static_cast<size_t>(k)]] = X(i, k);
         const Eigen::MatrixXd Xs = box.rows(Xt);
         const Eigen::VectorXd xs = box(X.row(i).transpose());
@@ -139,6 +155,8 @@ nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string
             {"inputs", c.inputs},
             {"cells", c.mesh.cells},
             {"alpha_error_mean", alphaErr},
+            {"u_error_mean", c.U.size() > 0 ? nlohmann::json(uErr) : nlohmann::json()},
+            {"velocity", c.U.size() > 0 ? "every run" : "not kept by every run (alpha only)"},
             {"predict_seconds", predictSeconds},
             {"summary", summary},
             {"rows", rows}};
@@ -176,7 +194,9 @@ nlohmann::json campaignRegressionPredict(const fs::path& ledger, const std::stri
     for (size_t k = 0; k < c.inputs.size(); ++k) out["at"][c.inputs[k]] = x[static_cast<Eigen::Index>(k)];
     for (size_t k = 0; k < c.qois.size(); ++k) out[c.qois[k]] = q[k];
     if (!fieldsFile.empty()) {
-        store::writeDerivedSnapshots(*c.source, {0.0}, {{"alpha", alpha}},
+        std::vector<std::pair<std::string, Eigen::MatrixXd>> fields{{"alpha", alpha}};
+        if (c.U.size() > 0) fields.emplace_back("U", PodRegression::fit(c.X, c.U, c.wU, o.modes, o.energy).predict(x));
+        store::writeDerivedSnapshots(*c.source, {0.0}, fields,
                                      {{"written_by", "mixload rom regression (POD regression of campaign " + campaign + ")"},
                                       {"at", out["at"].dump()},
                                       {"scene_kind", c.scene},
@@ -184,6 +204,7 @@ nlohmann::json campaignRegressionPredict(const fs::path& ledger, const std::stri
                                       {"openfoam_version", "none (reduced model)"}},
                                      fieldsFile);
         out["fields"] = fs::absolute(fieldsFile).string();
+        out["fields_written"] = c.U.size() > 0 ? "alpha, U" : "alpha";
     }
     return out;
 }

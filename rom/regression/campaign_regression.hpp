@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// POD regression checked on a campaign: the last stored powder fraction of every finished run
-// (campaign run --snapshots) against the run's design inputs, left out one run at a time. For each
+// POD regression checked on a campaign: the last stored powder fraction (and velocity, when every
+// run kept one) of every finished run (campaign run --snapshots) against the run's design inputs,
+// left out one run at a time. For each
 // run, the field is predicted from all the others (rom/regression/pod_regression) and so is the campaign's
 // quantity, by kriging on the same runs (the surrogates' way): the mixer's loading M = rho sum
 // alpha V, or the collapse's L*f and H*f. The table says which predicts the held-out run better,

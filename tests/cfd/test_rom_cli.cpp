@@ -140,6 +140,10 @@ TEST(RomRegression, LeavesEachCampaignRunOutAndPredictsIt) {
     EXPECT_LT(j["summary"]["runout_star"]["pod_regression_mean_abs_error"].get<double>(), 0.25);
     EXPECT_LT(j["alpha_error_mean"].get<double>(), 0.5);
     EXPECT_LT(j["predict_seconds"].get<double>(), 0.01);
+    // Every run kept its velocity, so the regression predicts it too.
+    ASSERT_FALSE(j["u_error_mean"].is_null()) << j["velocity"];
+    EXPECT_GT(j["u_error_mean"].get<double>(), 0.0);
+    EXPECT_TRUE(std::isfinite(j["u_error_mean"].get<double>()));
     // Fitted on all five, at a new point: the quantities and the field as a snapshot file.
     r = runMixload({"rom", "regression", "--campaign", "reg", "--dir", dir.string(), "--at", "mu_s=1.0", "--at",
                     "delta_mu=0.4", "--fields", (dir / "at.h5").string(), "--json"});
@@ -149,6 +153,7 @@ TEST(RomRegression, LeavesEachCampaignRunOutAndPredictsIt) {
     EXPECT_TRUE(p["warnings"].empty());
     const store::SnapshotFile at(dir / "at.h5");
     EXPECT_EQ(at.times().size(), 1u);
+    EXPECT_EQ(at.components("U"), 3);
     EXPECT_TRUE(fs::exists(dir / "at.xmf"));
     // A point missing an input, or naming one the design does not vary, is refused.
     for (const auto& bad : std::vector<std::vector<std::string>>{{"--at", "mu_s=1.0"},
@@ -174,6 +179,7 @@ TEST(RomRegression, LeavesEachCampaignRunOutAndPredictsIt) {
     EXPECT_DOUBLE_EQ(again["summary"]["runout_star"]["pod_regression_mean_abs_error"].get<double>(),
                      j["summary"]["runout_star"]["pod_regression_mean_abs_error"].get<double>());
     EXPECT_DOUBLE_EQ(again["alpha_error_mean"].get<double>(), j["alpha_error_mean"].get<double>());
+    EXPECT_DOUBLE_EQ(again["u_error_mean"].get<double>(), j["u_error_mean"].get<double>());
     r = runMixload({"campaign", "keep-fields", "reg", "--dir", dir.string(), "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
     EXPECT_EQ(nlohmann::json::parse(r.out)["added"], 0);
@@ -209,6 +215,8 @@ TEST(RomRegression, MixerCampaignReadsItsLoadingFromTheField) {
     // The loading is a window mean, the field one instant: they differ by the bed's fluctuation.
     EXPECT_LT(s["stored_field_mean_abs_error"].get<double>(), 0.02);
     EXPECT_TRUE(std::isfinite(s["pod_regression_mean_abs_error"].get<double>()));
+    ASSERT_FALSE(j["u_error_mean"].is_null());
+    EXPECT_TRUE(std::isfinite(j["u_error_mean"].get<double>()));
 
     // The regression's field at a new point starts a full run there (a warm start without a run):
     // the run begins with the field's loading; a field of another mesh is refused before any run.
