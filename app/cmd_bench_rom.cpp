@@ -19,7 +19,7 @@ struct BenchRom {
     std::vector<std::string> held{"0.85:1.2:0.33", "1.15:1.45:0.26", "0.9:1.35:0.25", "1.33:1.69:0.3"};
     int modes = 20;
     std::string pressure = "lithostatic";
-    double hyperTolerance = 0.01;
+    double hyperTolerance = 0.003;
     std::vector<int> coarse{5, 6};  // Li/4 loses 0.13% of the powder at a = 2: refused
     std::string out = "runs/bench-rom";
     bool json = false;

@@ -32,7 +32,7 @@ struct RomBench {
     rom::CollapseGalerkinOptions options;
     // A second Galerkin model with the mu(I) and convection terms hyper-reduced by ECSW to this
     // training error (0: none).
-    double hyperTolerance = 0.01;
+    double hyperTolerance = 0.003;
     std::filesystem::path out;
     bool progress = false;
 };
