@@ -45,20 +45,22 @@ struct CampaignFields {
     FvMesh mesh;
     std::optional<CollapseShape> shape;
 
-    static CampaignFields load(const fs::path& ledger, const std::string& campaign) {
+    // minRuns: a training campaign needs three runs and inputs that vary; a hold-out one, a run.
+    static CampaignFields load(const fs::path& ledger, const std::string& campaign, size_t minRuns = 3) {
         CampaignFields c;
         // A run's own snapshots, or the campaign's kept fields once its directory is gone.
         auto finals = store::campaignFinalFields(ledger, campaign);
         for (const auto& f : finals.runs) c.runs.push_back(f.run);
-        if (c.runs.size() < 3)
-            throw InputError("campaign", campaign, "three or more finished runs with snapshots (campaign run --snapshots)");
+        if (c.runs.size() < minRuns)
+            throw InputError("campaign", campaign,
+                             std::to_string(minRuns) + " or more finished runs with snapshots (campaign run --snapshots)");
         for (const auto& [k, v] : c.runs.front().params.items()) {
             if (!v.is_number()) continue;
             bool varies = false;
             for (const auto& r : c.runs) varies = varies || r.params.at(k).get<double>() != v.get<double>();
             if (varies) c.inputs.push_back(k);
         }
-        if (c.inputs.empty()) throw InputError("campaign", campaign, "a design whose inputs vary");
+        if (c.inputs.empty() && minRuns > 1) throw InputError("campaign", campaign, "a design whose inputs vary");
         c.source.emplace(finals.meshSource);
         c.scene = c.source->params().value("scene", std::string());
         c.mixer = c.scene == "mixer3d";
@@ -96,70 +98,143 @@ struct CampaignFields {
 };
 }  // namespace
 
-nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string& campaign, const RegressionCheckOptions& o) {
-    const auto c = CampaignFields::load(ledger, campaign);
-    const auto& X = c.X;
-    const auto n = X.rows(), d = X.cols();
-    nlohmann::json rows = nlohmann::json::array();
-    std::vector<double> regErr(c.qois.size(), 0), krigErr(c.qois.size(), 0), fieldErr(c.qois.size(), 0);
-    double alphaErr = 0, uErr = 0, predictSeconds = 0;
-    const auto box = surrogates::UnitBox::of(X);
-    for (Eigen::Index i = 0; i < n; ++i) {
-        const Eigen::MatrixXd Xt = without(X, i);
-        const Eigen::MatrixXd Ft = without(c.F.transpose(), i).transpose();
-        const auto reg = PodRegression::fit(Xt, Ft, c.mesh.V, o.modes, o.energy);
-        const auto t0 = Clock::now();
-        const Eigen::VectorXd alpha = reg.predict(X.row(i).transpose());
-        const auto q = c.quantities(alpha, c.rho[static_cast<size_t>(i)]);
-        predictSeconds += secondsSince(t0) / static_cast<double>(n);
-        const auto qStored = c.quantities(c.F.col(i), c.rho[static_cast<size_t>(i)]);
-        const double aErr = std::sqrt((alpha - c.F.col(i)).cwiseAbs2().dot(c.mesh.V) / c.F.col(i).cwiseAbs2().dot(c.mesh.V));
-        alphaErr += aErr / static_cast<double>(n);
-        nlohmann::json row{{"run", c.runs[static_cast<size_t>(i)].index}, {"alpha_error", aErr}, {"modes", reg.modes()}};
-        if (c.U.size() > 0) {
-            const Eigen::MatrixXd Ut = without(c.U.transpose(), i).transpose();
-            const Eigen::VectorXd u = PodRegression::fit(Xt, Ut, c.wU, o.modes, o.energy).predict(X.row(i).transpose());
-            const double e = std::sqrt((u - c.U.col(i)).cwiseAbs2().dot(c.wU) / c.U.col(i).cwiseAbs2().dot(c.wU));
-            row["u_error"] = e;
-            uErr += e / static_cast<double>(n);
-        }
-        for (Eigen::Index k = 0; k < d; ++k) row[c.inputs[static_cast<size_t>(k)]] = X(i, k);
-        const Eigen::MatrixXd Xs = box.rows(Xt);
-        const Eigen::VectorXd xs = box(X.row(i).transpose());
-        for (size_t k = 0; k < c.qois.size(); ++k) {
-            const double truth = c.Q(i, static_cast<Eigen::Index>(k));
-            const Eigen::VectorXd yt = without(c.Q.col(static_cast<Eigen::Index>(k)), i);
-            const auto kr = surrogates::Kriging::fit(Xs, yt, surrogates::KrigingOptions{});
-            auto ws = kr.makeWorkspace();
-            const double kq = kr.predictMean(xs.data(), ws);
-            row[c.qois[k]] = {{"full", truth},
-                              {"from_stored_field", qStored[k]},
-                              {"pod_regression", q[k]},
-                              {"kriging", kq},
-                              {"pod_regression_error", (q[k] - truth) / truth},
-                              {"kriging_error", (kq - truth) / truth}};
-            regErr[k] += std::abs(q[k] - truth) / std::abs(truth) / static_cast<double>(n);
-            krigErr[k] += std::abs(kq - truth) / std::abs(truth) / static_cast<double>(n);
-            fieldErr[k] += std::abs(qStored[k] - truth) / std::abs(truth) / static_cast<double>(n);
-        }
-        rows.push_back(row);
+namespace {
+// The training runs of one check: inputs, fields and quantities.
+struct Training {
+    Eigen::MatrixXd X, F, U, Q;
+};
+
+// Running means and maxima over the checked runs.
+struct Tally {
+    std::vector<double> reg, krig, field, regMax, krigMax;
+    double alpha = 0, u = 0, seconds = 0;
+    int runs = 0;
+    explicit Tally(size_t q) : reg(q), krig(q), field(q), regMax(q), krigMax(q) {}
+};
+
+// One run predicted from the training runs by POD regression (its field, and the quantities read
+// from it) and by kriging of the quantities, against the run's own field and recorded quantities.
+nlohmann::json checkRun(const CampaignFields& c, const Training& t, const Eigen::VectorXd& x, const Eigen::VectorXd& alphaRun,
+                        const Eigen::VectorXd& uRun, const Eigen::RowVectorXd& qRun, double rho, const RegressionCheckOptions& o,
+                        Tally& tally) {
+    const auto reg = PodRegression::fit(t.X, t.F, c.mesh.V, o.modes, o.energy);
+    const auto t0 = Clock::now();
+    const Eigen::VectorXd alpha = reg.predict(x);
+    const auto q = c.quantities(alpha, rho);
+    tally.seconds += secondsSince(t0);
+    const auto qStored = c.quantities(alphaRun, rho);
+    const double aErr = std::sqrt((alpha - alphaRun).cwiseAbs2().dot(c.mesh.V) / alphaRun.cwiseAbs2().dot(c.mesh.V));
+    tally.alpha += aErr;
+    ++tally.runs;
+    nlohmann::json row{{"alpha_error", aErr}, {"modes", reg.modes()}};
+    for (size_t k = 0; k < c.inputs.size(); ++k) row[c.inputs[k]] = x[static_cast<Eigen::Index>(k)];
+    if (t.U.size() > 0 && uRun.size() > 0) {
+        const Eigen::VectorXd u = PodRegression::fit(t.X, t.U, c.wU, o.modes, o.energy).predict(x);
+        const double e = std::sqrt((u - uRun).cwiseAbs2().dot(c.wU) / uRun.cwiseAbs2().dot(c.wU));
+        row["u_error"] = e;
+        tally.u += e;
     }
+    const auto box = surrogates::UnitBox::of(t.X);
+    const Eigen::MatrixXd Xs = box.rows(t.X);
+    const Eigen::VectorXd xs = box(x);
+    for (size_t k = 0; k < c.qois.size(); ++k) {
+        const double truth = qRun[static_cast<Eigen::Index>(k)];
+        const auto kr = surrogates::Kriging::fit(Xs, t.Q.col(static_cast<Eigen::Index>(k)), surrogates::KrigingOptions{});
+        auto ws = kr.makeWorkspace();
+        const double kq = kr.predictMean(xs.data(), ws);
+        row[c.qois[k]] = {{"full", truth},
+                          {"from_stored_field", qStored[k]},
+                          {"pod_regression", q[k]},
+                          {"kriging", kq},
+                          {"pod_regression_error", (q[k] - truth) / truth},
+                          {"kriging_error", (kq - truth) / truth}};
+        const double er = std::abs(q[k] - truth) / std::abs(truth), ek = std::abs(kq - truth) / std::abs(truth);
+        tally.reg[k] += er, tally.krig[k] += ek;
+        tally.regMax[k] = std::max(tally.regMax[k], er), tally.krigMax[k] = std::max(tally.krigMax[k], ek);
+        tally.field[k] += std::abs(qStored[k] - truth) / std::abs(truth);
+    }
+    return row;
+}
+
+nlohmann::json summarise(const CampaignFields& c, const Tally& t, bool withU) {
+    const double n = t.runs;
     nlohmann::json summary = nlohmann::json::object();
     for (size_t k = 0; k < c.qois.size(); ++k)
-        summary[c.qois[k]] = {{"pod_regression_mean_abs_error", regErr[k]},
-                              {"kriging_mean_abs_error", krigErr[k]},
-                              {"stored_field_mean_abs_error", fieldErr[k]}};
-    return {{"campaign", campaign},
-            {"scene", c.scene},
-            {"runs", n},
+        summary[c.qois[k]] = {{"pod_regression_mean_abs_error", t.reg[k] / n},
+                              {"pod_regression_max_abs_error", t.regMax[k]},
+                              {"kriging_mean_abs_error", t.krig[k] / n},
+                              {"kriging_max_abs_error", t.krigMax[k]},
+                              {"stored_field_mean_abs_error", t.field[k] / n}};
+    return {{"scene", c.scene},
             {"inputs", c.inputs},
             {"cells", c.mesh.cells},
-            {"alpha_error_mean", alphaErr},
-            {"u_error_mean", c.U.size() > 0 ? nlohmann::json(uErr) : nlohmann::json()},
-            {"velocity", c.U.size() > 0 ? "every run" : "not kept by every run (alpha only)"},
-            {"predict_seconds", predictSeconds},
-            {"summary", summary},
-            {"rows", rows}};
+            {"alpha_error_mean", t.alpha / n},
+            {"u_error_mean", withU ? nlohmann::json(t.u / n) : nlohmann::json()},
+            {"velocity", withU ? "every run" : "not kept by every run (alpha only)"},
+            {"predict_seconds", t.seconds / n},
+            {"summary", summary}};
+}
+}  // namespace
+
+nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string& campaign, const RegressionCheckOptions& o) {
+    const auto c = CampaignFields::load(ledger, campaign);
+    const auto n = c.X.rows();
+    Tally tally(c.qois.size());
+    nlohmann::json rows = nlohmann::json::array();
+    const bool withU = c.U.size() > 0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+        Training t{without(c.X, i), without(c.F.transpose(), i).transpose(),
+                   withU ? Eigen::MatrixXd(without(c.U.transpose(), i).transpose()) : Eigen::MatrixXd(), without(c.Q, i)};
+        auto row = checkRun(c, t, c.X.row(i).transpose(), c.F.col(i), withU ? Eigen::VectorXd(c.U.col(i)) : Eigen::VectorXd(),
+                            c.Q.row(i), c.rho[static_cast<size_t>(i)], o, tally);
+        row["run"] = c.runs[static_cast<size_t>(i)].index;
+        rows.push_back(row);
+    }
+    auto out = summarise(c, tally, withU);
+    out["campaign"] = campaign;
+    out["runs"] = n;
+    out["rows"] = rows;
+    return out;
+}
+
+nlohmann::json campaignRegressionHoldout(const fs::path& ledger, const std::string& campaign, const fs::path& holdoutLedger,
+                                         const std::string& holdout, const RegressionCheckOptions& o) {
+    const auto c = CampaignFields::load(ledger, campaign);
+    const auto h = CampaignFields::load(holdoutLedger, holdout, 1);
+    if (h.source->meshFingerprint() != c.source->meshFingerprint())
+        throw InputError("holdout", holdout, "a campaign on the training campaign's mesh (" + campaign + ")");
+    if (h.scene != c.scene) throw InputError("holdout", holdout, "a campaign of the training campaign's scene (" + c.scene + ")");
+    const bool withU = c.U.size() > 0 && h.U.size() > 0;
+    const Training t{c.X, c.F, withU ? c.U : Eigen::MatrixXd(), c.Q};
+    Tally tally(c.qois.size());
+    nlohmann::json rows = nlohmann::json::array(), outside = nlohmann::json::array();
+    for (size_t j = 0; j < h.runs.size(); ++j) {
+        // The hold-out run's values of the training design's inputs (it may hold some fixed).
+        Eigen::VectorXd x(c.X.cols());
+        bool inside = true;
+        for (size_t k = 0; k < c.inputs.size(); ++k) {
+            const auto& p = h.runs[j].params;
+            if (!p.contains(c.inputs[k]) || !p[c.inputs[k]].is_number())
+                throw InputError("holdout", holdout, "runs that give every input the training campaign varies (" + c.inputs[k] + ")");
+            x[static_cast<Eigen::Index>(k)] = p[c.inputs[k]].get<double>();
+            inside = inside && x[static_cast<Eigen::Index>(k)] >= c.X.col(static_cast<Eigen::Index>(k)).minCoeff() &&
+                     x[static_cast<Eigen::Index>(k)] <= c.X.col(static_cast<Eigen::Index>(k)).maxCoeff();
+        }
+        if (!inside) outside.push_back(h.runs[j].index);
+        const auto i = static_cast<Eigen::Index>(j);
+        auto row = checkRun(c, t, x, h.F.col(i), withU ? Eigen::VectorXd(h.U.col(i)) : Eigen::VectorXd(), h.Q.row(i),
+                            h.rho[j], o, tally);
+        row["run"] = h.runs[j].index;
+        rows.push_back(row);
+    }
+    auto out = summarise(c, tally, withU);
+    out["campaign"] = campaign;
+    out["holdout"] = holdout;
+    out["runs"] = c.X.rows();
+    out["holdout_runs"] = h.runs.size();
+    out["holdout_outside_training_box"] = outside;
+    out["rows"] = rows;
+    return out;
 }
 
 nlohmann::json campaignRegressionPredict(const fs::path& ledger, const std::string& campaign, const RegressionCheckOptions& o,

@@ -26,6 +26,14 @@ struct RegressionCheckOptions {
 nlohmann::json campaignRegressionCheck(const std::filesystem::path& ledger, const std::string& campaign,
                                        const RegressionCheckOptions& options);
 
+// The regression (and kriging) fitted on every run of one campaign, checked on every finished run
+// of a hold-out campaign on the same mesh (placed by design, never used to fit): per run and in the
+// mean and maximum, the field's and the quantities' errors. Hold-out runs outside the training
+// box are listed.
+nlohmann::json campaignRegressionHoldout(const std::filesystem::path& ledger, const std::string& campaign,
+                                         const std::filesystem::path& holdoutLedger, const std::string& holdout,
+                                         const RegressionCheckOptions& options);
+
 // The regression fitted on every run, at a new point (a value for each varying input): the
 // quantity (M, or L*f and H*f) and, when fieldsFile is given, the predicted alpha as a snapshot
 // file (+ XDMF). A point outside the training box is predicted with a warning.
