@@ -198,7 +198,7 @@ void addCampaign(CLI::App& app, Action& action) {
     });
 
     auto* kf = camp->add_subcommand("keep-fields",
-                                    "Keep every finished run's final powder fraction in <campaign dir>/fields.h5 (one mesh, a column per run), "
+                                    "Keep every finished run's final powder fraction and velocity in <campaign dir>/fields.h5 (one mesh, a column per run), "
                                     "so that reduced models can train on them once the run directories are gone (campaign run --snapshots does "
                                     "it after each run)");
     kf->add_option("name", o->spec.place.name, "Campaign name")->required();
