@@ -36,23 +36,22 @@ namespace {
 // the kept cells with their weights and the RMS relative error over the snapshots.
 std::pair<SparseNnls, double> ecsw(Eigen::Index N, const std::function<Eigen::MatrixXd(Eigen::Index)>& share, double tolerance,
                                    Eigen::Index maxCells) {
-    std::vector<Eigen::MatrixXd> shares;
-    double largest = 0;
-    for (Eigen::Index j = 0; j < N; ++j) {
-        shares.push_back(share(j));
-        largest = std::max(largest, shares.back().rowwise().sum().norm());
-    }
-    std::vector<size_t> used;
-    for (size_t j = 0; j < shares.size(); ++j)
-        if (shares[j].rowwise().sum().norm() > 1e-9 * largest) used.push_back(j);
+    // Two passes, so that only the scaled system is ever held (shares are cheap to recompute).
+    std::vector<double> norms;
+    for (Eigen::Index j = 0; j < N; ++j) norms.push_back(share(j).rowwise().sum().norm());
+    const double largest = *std::max_element(norms.begin(), norms.end());
+    std::vector<Eigen::Index> used;
+    for (Eigen::Index j = 0; j < N; ++j)
+        if (norms[static_cast<size_t>(j)] > 1e-9 * largest) used.push_back(j);
     if (used.empty()) throw InputError("training snapshots", std::to_string(N), "snapshots with a moving flow");
-    const Eigen::Index K = shares.front().rows(), C = shares.front().cols();
+    Eigen::MatrixXd first = share(used.front());
+    const Eigen::Index K = first.rows(), C = first.cols();
     Eigen::MatrixXd Gm(K * static_cast<Eigen::Index>(used.size()), C);
     for (size_t i = 0; i < used.size(); ++i) {
-        auto& b = shares[used[i]];
-        Gm.middleRows(static_cast<Eigen::Index>(i) * K, K) = b / b.rowwise().sum().norm();
-        b.resize(0, 0);  // only Gm is needed from here on
+        const Eigen::Index j = used[i];
+        Gm.middleRows(static_cast<Eigen::Index>(i) * K, K) = (i == 0 ? first : share(j)) / norms[static_cast<size_t>(j)];
     }
+    first.resize(0, 0);
     const Eigen::VectorXd y = Gm.rowwise().sum();
     const SparseNnls w = sparseNnls(Gm.transpose() * Gm, Gm.transpose() * y, y.squaredNorm(), tolerance, std::min(maxCells, C));
     Eigen::VectorXd full = Eigen::VectorXd::Zero(C);
