@@ -216,16 +216,29 @@ nlohmann::json runMixer(const MixerJob& job) {
     r.progress = job.progress;
     r.deadline = job.deadline;
     r.label = "mixer " + s.method;
-    const double solverWall = runSolver(r);
+    RunSlices slices(dir, job.np);
+    const auto tSolver = std::chrono::steady_clock::now();
+    double solverWall = 0;
+    try {
+        solverWall = runSolver(r);
+    } catch (...) {
+        // Stopped at a deadline, or failed: the next process resumes here and counts this time.
+        slices.close(secondsSince(t0), meshSeconds + secondsSince(tSolver) * job.np);
+        throw;
+    }
+    // Meshing runs serial; the solver holds np cores.
+    const auto total = slices.close(secondsSince(t0), meshSeconds + solverWall * job.np);
 
     nlohmann::json result = post::mixerResult(s, dir);
     const auto mesh = nlohmann::json::parse(readFile(dir / "mesh.json"));
     result["cells"] = mesh.value("cells", 0L);
     result["mesh"] = mesh;
-    result["wall_seconds"] = secondsSince(t0);
+    // Over every process that worked on the run (RunSlices); this process's own share apart.
+    result["wall_seconds"] = total["wall_seconds"];
+    result["core_seconds"] = total["core_seconds"];
+    result["slices"] = total["slices"];
+    result["slice_wall_seconds"] = secondsSince(t0);
     result["solver_wall_seconds"] = solverWall;
-    // Meshing runs serial; the solver holds np cores.
-    result["core_seconds"] = meshSeconds + solverWall * job.np;
     result["np"] = job.np;
     result["resumed"] = !fresh;
     result["start"] = fs::exists(dir / "start.json")

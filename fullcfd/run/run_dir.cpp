@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "run/run_dir.hpp"
 
+#include <chrono>
+#include <optional>
 #include <iostream>
 
 #include "common/atomic_file.hpp"
@@ -78,6 +80,48 @@ void stampProvenance(nlohmann::json& result, const fs::path& dir, const std::str
     result["mixload_version"] = kVersion;
     result["git_commit"] = kGitCommit;
     result["openfoam_version"] = MIXLOAD_OPENFOAM_VERSION;
+}
+
+namespace {
+// Seconds on the clock the file system stamps files with, so that a slice's start and its logs'
+// last writes compare directly.
+double fileClockNow() {
+    return std::chrono::duration<double>(fs::file_time_type::clock::now().time_since_epoch()).count();
+}
+
+// When anything in the case last wrote a log: the end of a slice whose process was killed.
+// (The file clock's epoch may lie in the future: its readings can be negative.)
+std::optional<double> lastLogWrite(const fs::path& dir) {
+    std::optional<double> last;
+    for (const auto& e : fs::directory_iterator(dir)) {
+        if (e.path().filename().string().rfind("log.", 0) != 0) continue;
+        const double t = std::chrono::duration<double>(fs::last_write_time(e.path()).time_since_epoch()).count();
+        last = std::max(last.value_or(t), t);
+    }
+    return last;
+}
+}  // namespace
+
+RunSlices::RunSlices(const fs::path& dir, int np) : file_(dir / "slices.json") {
+    slices_ = fs::exists(file_) ? nlohmann::json::parse(readFile(file_)) : nlohmann::json::array();
+    for (auto& s : slices_)
+        if (s.value("open", false)) {
+            const double start = s.at("start_file_clock_s").get<double>();
+            const double wall = std::max(0.0, lastLogWrite(dir).value_or(start) - start);
+            s = {{"start_file_clock_s", s["start_file_clock_s"]}, {"wall_seconds", wall}, {"core_seconds", wall * s.value("np", 1)},
+                 {"closed_by", "the next process (this one was killed): ended at its last log write"}};
+        }
+    slices_.push_back({{"start_file_clock_s", fileClockNow()}, {"np", np}, {"open", true}});
+    writeFileAtomic(file_, slices_.dump(1));
+}
+
+nlohmann::json RunSlices::close(double wallSeconds, double coreSeconds) {
+    auto& s = slices_.back();
+    s = {{"start_file_clock_s", s["start_file_clock_s"]}, {"wall_seconds", wallSeconds}, {"core_seconds", coreSeconds}};
+    writeFileAtomic(file_, slices_.dump(1));
+    double wall = 0, core = 0;
+    for (const auto& x : slices_) wall += x.value("wall_seconds", 0.0), core += x.value("core_seconds", 0.0);
+    return {{"wall_seconds", wall}, {"core_seconds", core}, {"slices", slices_.size()}};
 }
 
 }  // namespace mixload::run

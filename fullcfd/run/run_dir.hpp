@@ -39,6 +39,22 @@ void buildCaseAtomically(const std::filesystem::path& dir,
 // under "snapshots" in result and in <dir>/result.json.
 void addSnapshots(nlohmann::json& result, const std::filesystem::path& dir);
 
+// The wall and core seconds spent on a run over every process that worked on it: a run stopped at
+// a deadline, or killed, resumes in its directory in a later process. Each process opens a slice in
+// <dir>/slices.json and closes it with its own seconds when it ends, finished, stopped or failed. A
+// slice left open by a killed process is closed by the next one at the last change of the case's
+// logs (when the killed solver last wrote), its core seconds as that wall time on its ranks.
+class RunSlices {
+public:
+    RunSlices(const std::filesystem::path& dir, int np);
+    // Closes this process's slice; returns the totals: wall_seconds, core_seconds, slices.
+    nlohmann::json close(double wallSeconds, double coreSeconds);
+
+private:
+    std::filesystem::path file_;
+    nlohmann::json slices_;
+};
+
 // Adds run_dir, scene_hash, mixload_version, git_commit and openfoam_version.
 void stampProvenance(nlohmann::json& result, const std::filesystem::path& dir,
                      const std::string& hash);

@@ -4,6 +4,7 @@
 // and bad ranges files (exit 2, one line naming the problem, no campaign left behind).
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <csignal>
 #include <fstream>
 #include <set>
@@ -14,8 +15,11 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_harness.hpp"
+#include "common/atomic_file.hpp"
+#include "run/run_dir.hpp"
 
 using namespace mixload::testing;
+using mixload::readFile;
 namespace fs = std::filesystem;
 
 namespace {
@@ -363,4 +367,47 @@ TEST(CampaignCli, WarmNearestStartsAPointFromTheNearestFinishedRun) {
     r = runMixload({"campaign", "run", "c", "--warm-nearest", "--dir", dir.string()});
     EXPECT_EQ(r.rc, 2) << r.err;
     EXPECT_NE(r.err.find("warm-nearest"), std::string::npos) << r.err;
+}
+
+TEST(CampaignCli, AMixerRunStoppedAndResumedCountsBothSlices) {
+    // A tiny mixer point stopped at --max-hours and finished by a second driver: its result, and the
+    // ledger, count the time of both processes, not the last one's alone.
+    const fs::path dir = scratchDir("campaign-slices");
+    const auto ranges = rangesFile(dir, "r", "scene = \"mixer\"\n[rho]\nmin = 300\nmax = 400\nunit = \"kg/m3\"\n");
+    auto r = runMixload({"campaign", "create", "s", "--ranges", ranges.string(), "--n", "1", "--scene", "gcm250",
+                         "--cell-size", "0.01", "--end-time", "2", "--dir", dir.string()});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    r = runMixload({"campaign", "run", "s", "--max-hours", "0.002", "--dir", dir.string(), "--json"});  // 7.2 s
+    ASSERT_EQ(r.rc, 0) << r.err;
+    ASSERT_TRUE(nlohmann::json::parse(r.out)["stopped_at_max_hours"].get<bool>()) << r.out;
+    r = runMixload({"campaign", "run", "s", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    ASSERT_EQ(nlohmann::json::parse(r.out)["counts"]["done"], 1) << r.out;
+    fs::path run;
+    for (const auto& e : fs::directory_iterator(dir / "s" / "runs"))
+        if (e.is_directory()) run = e.path();
+    const auto res = nlohmann::json::parse(readFile(run / "result.json"));
+    std::cout << "slices " << res["slices"] << ": wall " << res["wall_seconds"] << " s, this process "
+              << res["slice_wall_seconds"] << " s\n";
+    EXPECT_EQ(res["slices"], 2);
+    EXPECT_GT(res["wall_seconds"].get<double>(), res["slice_wall_seconds"].get<double>() + 4.0);
+    EXPECT_GE(res["core_seconds"].get<double>(), res["wall_seconds"].get<double>() * 0.9);
+    r = runMixload({"campaign", "export", "s", "-o", (dir / "s.csv").string(), "--dir", dir.string()});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_NE(readFile(dir / "s.csv").find(",done,"), std::string::npos);
+}
+
+TEST(CampaignCli, ASliceLeftOpenByAKilledProcessEndsAtItsLastLogWrite) {
+    // The slice of a process killed mid-run has a start and no end: the next process closes it at
+    // the case's last log write, its core seconds that time on its ranks.
+    const fs::path dir = scratchDir("slices-killed");
+    const double now = std::chrono::duration<double>(fs::file_time_type::clock::now().time_since_epoch()).count();
+    std::ofstream(dir / "slices.json") << nlohmann::json::array({{{"start_file_clock_s", now - 100.0}, {"np", 2}, {"open", true}}}).dump();
+    std::ofstream(dir / "log.interFoam") << "Time = 1\n";
+    fs::last_write_time(dir / "log.interFoam", fs::file_time_type::clock::now() - std::chrono::seconds(40));
+    mixload::run::RunSlices slices(dir, 1);
+    const auto total = slices.close(10.0, 10.0);
+    EXPECT_EQ(total["slices"], 2);
+    EXPECT_NEAR(total["wall_seconds"].get<double>(), 60.0 + 10.0, 1.0);
+    EXPECT_NEAR(total["core_seconds"].get<double>(), 2 * 60.0 + 10.0, 2.0);
 }
