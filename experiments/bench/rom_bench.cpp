@@ -417,7 +417,7 @@ nlohmann::json runRomBench(const RomBench& b) {
     std::ostringstream gp;
     gp << "set terminal pngcairo size 800,560\nset output 'rom-bench.png'\nset logscale xy\nset grid\n"
        << "set format x '10^{%L}'\nset format y '10^{%L}'\nset xlabel 'online time per answer [s]'\n"
-       << "set ylabel '|relative error| against the held-out full run'\nset key top right\n"
+       << "set ylabel '|relative error| against the held-out full run'\nset key bottom left font \",9\"\n"
        << "set title 'Collapse: " << held.size() << " held-out runs, models trained on " << train.size() << "'\n"
        << "set yrange [5e-5:1]\nset arrow from graph 0, first 0.05 to graph 1, first 0.05 nohead dt 2\n"
        << "plot 'rom-bench.dat' u 1:2 w p pt 7 ps 1.3 t 'POD-Galerkin, L*f', '' u 1:3 w p pt 6 ps 1.3 t 'POD-Galerkin, H*f', "
