@@ -2,6 +2,9 @@
 #include "run/foam_runner.hpp"
 
 #include <chrono>
+#include <fstream>
+#include <optional>
+#include <set>
 #include <cstdlib>
 
 #include "common/clock.hpp"
@@ -77,8 +80,54 @@ std::string interFoamPath() {
     return MIXLOAD_INTERFOAM;
 }
 
+namespace {
+// A field file the solver finished writing ends with OpenFOAM's closing divider.
+bool complete(const fs::path& file) {
+    if (file.extension() == ".gz") return fs::file_size(file) > 0;
+    std::ifstream in(file, std::ios::binary);
+    const auto size = static_cast<std::streamoff>(fs::file_size(file));
+    if (size < 8) return false;
+    in.seekg(std::max<std::streamoff>(0, size - 128));
+    const std::string tail((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return tail.find("// ****") != std::string::npos;
+}
+
+std::set<std::string> fileNames(const fs::path& dir) {
+    std::set<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir))
+        if (e.is_regular_file()) names.insert(e.path().filename().string());
+    return names;
+}
+}  // namespace
+
+std::optional<fs::path> setAsidePartialTime(const fs::path& caseDir) {
+    const fs::path latest = latestTimeDir(caseDir);
+    if (latest.empty()) return std::nullopt;
+    bool partial = false;
+    for (const auto& name : fileNames(latest)) partial = partial || !complete(latest / name);
+    // Against the time before it (not 0, which holds only the initial fields): a field not written.
+    double before = 0;
+    fs::path previous;
+    for (const auto& e : fs::directory_iterator(caseDir)) {
+        const auto t = e.is_directory() ? parseNumber(e.path().filename().string()) : std::nullopt;
+        if (t && *t > before && e.path() != latest) before = *t, previous = e.path();
+    }
+    if (!previous.empty()) {
+        const auto had = fileNames(previous), has = fileNames(latest);
+        for (const auto& name : had) partial = partial || !has.count(name);
+    }
+    if (!partial) return std::nullopt;
+    fs::path aside = latest;
+    aside += ".partial";
+    for (int k = 1; fs::exists(aside); ++k) aside = latest.string() + ".partial" + std::to_string(k);
+    fs::rename(latest, aside);
+    return aside;
+}
+
 double runSolver(const SolverRun& r) {
     const auto start = std::chrono::steady_clock::now();
+    // A solver killed while writing leaves a time it cannot restart from: resume before it.
+    if (r.np <= 1) setAsidePartialTime(r.caseDir);
     Progress bar(r.label, r.progress);
     auto onLine = [&](const std::string& line) {
         if (line.rfind("Time = ", 0) == 0) {

@@ -41,6 +41,12 @@ struct SolverRun {
 // the latest written time when the case already ran. Returns wall seconds spent in this call.
 double runSolver(const SolverRun& r);
 
+// A latest time directory that a killed solver left half written (a file without OpenFOAM's
+// closing divider, or a file the time before it has and it lacks) is renamed to "<time>.partial",
+// which OpenFOAM ignores, so that the solver resumes from the last complete time. Returns the new
+// name, or nothing when the latest time is complete. runSolver does it before a serial run.
+std::optional<std::filesystem::path> setAsidePartialTime(const std::filesystem::path& caseDir);
+
 // Latest time directory (numeric name, as written: a restart needs its digits) of a case, or an
 // empty path if none past 0; latestTime is its time, or 0.
 std::filesystem::path latestTimeDir(const std::filesystem::path& caseDir);

@@ -16,6 +16,7 @@
 
 #include "cli_harness.hpp"
 #include "common/atomic_file.hpp"
+#include "run/foam_runner.hpp"
 #include "run/run_dir.hpp"
 
 using namespace mixload::testing;
@@ -410,4 +411,54 @@ TEST(CampaignCli, ASliceLeftOpenByAKilledProcessEndsAtItsLastLogWrite) {
     EXPECT_EQ(total["slices"], 2);
     EXPECT_NEAR(total["wall_seconds"].get<double>(), 60.0 + 10.0, 1.0);
     EXPECT_NEAR(total["core_seconds"].get<double>(), 2 * 60.0 + 10.0, 2.0);
+}
+
+TEST(CampaignCli, AHalfWrittenLatestTimeIsSetAsideAndTheRunResumesBeforeIt) {
+    // Finished runs (a collapse, binary mixer fields) have no partial time. A latest time with a
+    // truncated field, or one missing a field the time before it has, is set aside; the run then
+    // resumes from the time before and finishes (a killed solver's half-written time made the
+    // kill test's resumed run fail and retry in another directory).
+    const fs::path dir = scratchDir("partial-time");
+    auto r = runMixload({"collapse", "--material", "quartz", "--aspect", "2", "--cells-per-length", "8", "--out",
+                         (dir / "c").string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_FALSE(mixload::run::setAsidePartialTime(dir / "c"));
+    r = runMixload({"mixer", "--scene", "gcm250", "--cell-size", "0.01", "--end-time", "0.05", "--out", (dir / "m").string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_FALSE(mixload::run::setAsidePartialTime(dir / "m"));
+
+    const fs::path last = mixload::run::latestTimeDir(dir / "c");
+    fs::resize_file(last / "U", fs::file_size(last / "U") / 2);
+    const auto aside = mixload::run::setAsidePartialTime(dir / "c");
+    ASSERT_TRUE(aside);
+    EXPECT_FALSE(fs::exists(last));
+    EXPECT_TRUE(fs::exists(*aside / "U"));
+    const fs::path before = mixload::run::latestTimeDir(dir / "c");
+    EXPECT_NE(before, last);
+    fs::remove(before / "p_rgh");
+    EXPECT_TRUE(mixload::run::setAsidePartialTime(dir / "c"));
+    EXPECT_FALSE(fs::exists(before));
+    EXPECT_FALSE(mixload::run::setAsidePartialTime(dir / "c"));
+
+    // In a campaign: a collapse stopped at --max-hours, its latest time cut short as a kill would
+    // leave it, finishes in its own directory on the first attempt.
+    const auto ranges = rangesFile(dir, "r", "scene = \"collapse\"\n[aspect]\nmin = 1\nmax = 3\nunit = \"1\"\n");
+    r = runMixload({"campaign", "create", "p", "--ranges", ranges.string(), "--n", "1", "--mesh", "10", "--dir", dir.string()});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    r = runMixload({"campaign", "run", "p", "--max-hours", "0.0008", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    ASSERT_TRUE(nlohmann::json::parse(r.out)["stopped_at_max_hours"].get<bool>()) << r.out;
+    fs::path run;
+    for (const auto& e : fs::directory_iterator(dir / "p" / "runs"))
+        if (e.is_directory()) run = e.path();
+    const fs::path cut = mixload::run::latestTimeDir(run);
+    ASSERT_FALSE(cut.empty()) << "the run wrote no time before its deadline";
+    fs::resize_file(cut / "alpha.powder", fs::file_size(cut / "alpha.powder") / 3);
+    r = runMixload({"campaign", "run", "p", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["counts"]["done"], 1);
+    int dirs = 0;
+    for (const auto& e : fs::directory_iterator(dir / "p" / "runs")) dirs += e.is_directory();
+    EXPECT_EQ(dirs, 1);  // no retry directory
+    EXPECT_TRUE(fs::exists(run / "result.json"));
 }
