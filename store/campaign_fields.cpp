@@ -85,7 +85,9 @@ nlohmann::json keepCampaignFields(const fs::path& ledger, const std::string& cam
                            {"time_s", f.times().back()},
                            {"bulk_density_kg_m3", bulkDensityOf(f)},
                            {"velocity", withU}});
-        ++(inKept ? upgraded : added);
+        // A kept run re-read without finding a velocity changes nothing: no rewrite for it.
+        if (!inKept) ++added;
+        else if (withU) ++upgraded;
     }
     const fs::path file = campaignFieldsFile(ledger);
     if (alphas.empty()) throw InputError("campaign", campaign, "finished runs with snapshots to keep (campaign run --snapshots)");

@@ -112,36 +112,48 @@ struct Tally {
     explicit Tally(size_t q) : reg(q), krig(q), field(q), regMax(q), krigMax(q) {}
 };
 
+// The models a check fits on its training runs: the field regressions (U when trained with it) and
+// one kriging model per quantity, in the training box's unit coordinates. Fitted once per training
+// set: the leave-one-out check fits one per run, the hold-out check one for all its runs.
+struct Fitted {
+    PodRegression alpha;
+    std::optional<PodRegression> U;
+    surrogates::UnitBox box;
+    std::vector<surrogates::Kriging> kriging;
+
+    Fitted(const CampaignFields& c, const Training& t, const RegressionCheckOptions& o)
+        : alpha(PodRegression::fit(t.X, t.F, c.mesh.V, o.modes, o.energy)), box(surrogates::UnitBox::of(t.X)) {
+        if (t.U.size() > 0) U = PodRegression::fit(t.X, t.U, c.wU, o.modes, o.energy);
+        const Eigen::MatrixXd Xs = box.rows(t.X);
+        for (Eigen::Index k = 0; k < t.Q.cols(); ++k) kriging.push_back(surrogates::Kriging::fit(Xs, t.Q.col(k), surrogates::KrigingOptions{}));
+    }
+};
+
 // One run predicted from the training runs by POD regression (its field, and the quantities read
 // from it) and by kriging of the quantities, against the run's own field and recorded quantities.
-nlohmann::json checkRun(const CampaignFields& c, const Training& t, const Eigen::VectorXd& x, const Eigen::VectorXd& alphaRun,
-                        const Eigen::VectorXd& uRun, const Eigen::RowVectorXd& qRun, double rho, const RegressionCheckOptions& o,
-                        Tally& tally) {
-    const auto reg = PodRegression::fit(t.X, t.F, c.mesh.V, o.modes, o.energy);
+nlohmann::json checkRun(const CampaignFields& c, const Fitted& fit, const Eigen::VectorXd& x, const Eigen::VectorXd& alphaRun,
+                        const Eigen::VectorXd& uRun, const Eigen::RowVectorXd& qRun, double rho, Tally& tally) {
     const auto t0 = Clock::now();
-    const Eigen::VectorXd alpha = reg.predict(x);
+    const Eigen::VectorXd alpha = fit.alpha.predict(x);
     const auto q = c.quantities(alpha, rho);
     tally.seconds += secondsSince(t0);
     const auto qStored = c.quantities(alphaRun, rho);
     const double aErr = std::sqrt((alpha - alphaRun).cwiseAbs2().dot(c.mesh.V) / alphaRun.cwiseAbs2().dot(c.mesh.V));
     tally.alpha += aErr;
     ++tally.runs;
-    nlohmann::json row{{"alpha_error", aErr}, {"modes", reg.modes()}};
+    nlohmann::json row{{"alpha_error", aErr}, {"modes", fit.alpha.modes()}};
     for (size_t k = 0; k < c.inputs.size(); ++k) row[c.inputs[k]] = x[static_cast<Eigen::Index>(k)];
-    if (t.U.size() > 0 && uRun.size() > 0) {
-        const Eigen::VectorXd u = PodRegression::fit(t.X, t.U, c.wU, o.modes, o.energy).predict(x);
+    if (fit.U && uRun.size() > 0) {
+        const Eigen::VectorXd u = fit.U->predict(x);
         const double e = std::sqrt((u - uRun).cwiseAbs2().dot(c.wU) / uRun.cwiseAbs2().dot(c.wU));
         row["u_error"] = e;
         tally.u += e;
     }
-    const auto box = surrogates::UnitBox::of(t.X);
-    const Eigen::MatrixXd Xs = box.rows(t.X);
-    const Eigen::VectorXd xs = box(x);
+    const Eigen::VectorXd xs = fit.box(x);
     for (size_t k = 0; k < c.qois.size(); ++k) {
         const double truth = qRun[static_cast<Eigen::Index>(k)];
-        const auto kr = surrogates::Kriging::fit(Xs, t.Q.col(static_cast<Eigen::Index>(k)), surrogates::KrigingOptions{});
-        auto ws = kr.makeWorkspace();
-        const double kq = kr.predictMean(xs.data(), ws);
+        auto ws = fit.kriging[k].makeWorkspace();
+        const double kq = fit.kriging[k].predictMean(xs.data(), ws);
         row[c.qois[k]] = {{"full", truth},
                           {"from_stored_field", qStored[k]},
                           {"pod_regression", q[k]},
@@ -185,8 +197,8 @@ nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string
     for (Eigen::Index i = 0; i < n; ++i) {
         Training t{without(c.X, i), without(c.F.transpose(), i).transpose(),
                    withU ? Eigen::MatrixXd(without(c.U.transpose(), i).transpose()) : Eigen::MatrixXd(), without(c.Q, i)};
-        auto row = checkRun(c, t, c.X.row(i).transpose(), c.F.col(i), withU ? Eigen::VectorXd(c.U.col(i)) : Eigen::VectorXd(),
-                            c.Q.row(i), c.rho[static_cast<size_t>(i)], o, tally);
+        auto row = checkRun(c, Fitted(c, t, o), c.X.row(i).transpose(), c.F.col(i),
+                            withU ? Eigen::VectorXd(c.U.col(i)) : Eigen::VectorXd(), c.Q.row(i), c.rho[static_cast<size_t>(i)], tally);
         row["run"] = c.runs[static_cast<size_t>(i)].index;
         rows.push_back(row);
     }
@@ -205,7 +217,7 @@ nlohmann::json campaignRegressionHoldout(const fs::path& ledger, const std::stri
         throw InputError("holdout", holdout, "a campaign on the training campaign's mesh (" + campaign + ")");
     if (h.scene != c.scene) throw InputError("holdout", holdout, "a campaign of the training campaign's scene (" + c.scene + ")");
     const bool withU = c.U.size() > 0 && h.U.size() > 0;
-    const Training t{c.X, c.F, withU ? c.U : Eigen::MatrixXd(), c.Q};
+    const Fitted fit(c, Training{c.X, c.F, withU ? c.U : Eigen::MatrixXd(), c.Q}, o);
     Tally tally(c.qois.size());
     nlohmann::json rows = nlohmann::json::array(), outside = nlohmann::json::array();
     for (size_t j = 0; j < h.runs.size(); ++j) {
@@ -222,8 +234,8 @@ nlohmann::json campaignRegressionHoldout(const fs::path& ledger, const std::stri
         }
         if (!inside) outside.push_back(h.runs[j].index);
         const auto i = static_cast<Eigen::Index>(j);
-        auto row = checkRun(c, t, x, h.F.col(i), withU ? Eigen::VectorXd(h.U.col(i)) : Eigen::VectorXd(), h.Q.row(i),
-                            h.rho[j], o, tally);
+        auto row = checkRun(c, fit, x, h.F.col(i), withU ? Eigen::VectorXd(h.U.col(i)) : Eigen::VectorXd(), h.Q.row(i),
+                            h.rho[j], tally);
         row["run"] = h.runs[j].index;
         rows.push_back(row);
     }
