@@ -13,6 +13,7 @@
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
 #include "rom/regression/campaign_regression.hpp"
+#include "rom/steady/steady_loading.hpp"
 #include "rom/galerkin/collapse_check.hpp"
 #include "rom/galerkin/collapse_galerkin.hpp"
 #include "rom/galerkin/collapse_model_file.hpp"
@@ -527,6 +528,44 @@ void addRom(CLI::App& app, Action& action) {
                           << 100 * s["kriging_mean_abs_error"].get<double>() << "% (max "
                           << 100 * s["kriging_max_abs_error"].get<double>() << "%) (the stored field itself "
                           << 100 * s["stored_field_mean_abs_error"].get<double>() << "%)\n";
+            return 0;
+        };
+    });
+
+    // The mixer's steady powder transport on a run's own fields: what a reduced steady model
+    // would hold with the run's flux, or with the flux rebuilt from its velocity.
+    struct SteadyCmd {
+        std::string file;
+        int every = 1;
+        bool json = false;
+    };
+    auto st = std::make_shared<SteadyCmd>();
+    auto* steady = cmd->add_subcommand(
+        "steady", "A mixer run's loading beside the loading its flow would hold at steady state (steady upwind powder "
+                  "transport from the inlet), from the solver's flux phi and from the flux rebuilt from U");
+    steady->add_option("FILE", st->file, "Mixer snapshots (snapshots export RUN -o F.h5 --fields alpha,U,phi)")->required();
+    steady->add_option("--every", st->every, "Every k-th stored time (the last always)")->capture_default_str();
+    steady->add_flag("--json", st->json, "Print JSON");
+    steady->callback([&action, st] {
+        action = [st] {
+            const store::SnapshotFile f(st->file);
+            const auto j = rom::steadyLoadingCheck(f, st->every);
+            if (st->json) {
+                std::cout << j.dump(2) << '\n';
+                return 0;
+            }
+            std::cout << "Steady powder transport on " << st->file << " (" << j["cells"] << " cells, "
+                      << std::setprecision(3) << j["seconds_per_steady_solve"].get<double>() << " s per solve)\n"
+                      << "  time (s)  loading (kg)  steady from phi (kg)  steady from U (kg)  flux error of U\n";
+            const auto cell = [](const nlohmann::json& r, const char* k, int w) {
+                std::ostringstream os;
+                if (r.contains(k)) os << std::setprecision(4) << r[k].get<double>();
+                else os << "-";
+                return std::string(static_cast<size_t>(std::max(0, w - static_cast<int>(os.str().size()))), ' ') + os.str();
+            };
+            for (const auto& r : j["times"])
+                std::cout << cell(r, "time_s", 10) << cell(r, "loading_kg", 14) << cell(r, "steady_from_phi_kg", 22)
+                          << cell(r, "steady_from_u_kg", 20) << cell(r, "flux_error_u", 17) << '\n';
             return 0;
         };
     });

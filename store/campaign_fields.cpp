@@ -116,6 +116,8 @@ FinalFields campaignFinalFields(const fs::path& ledger, const std::string& campa
         if (fingerprint.empty()) fingerprint = f.meshFingerprint(), out.meshSource = f.path();
         else if (f.meshFingerprint() != fingerprint)
             throw InputError("campaign", campaign, "runs on one mesh (" + f.path().string() + " differs)");
+        // Files written since the MRF zones are kept carry them: the reduced steady model needs them.
+        else if (!f.mrfZones().empty() && SnapshotFile(out.meshSource).mrfZones().empty()) out.meshSource = f.path();
     };
     for (const auto& r : runs) {
         if (hasSnapshots(r)) {

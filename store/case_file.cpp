@@ -86,6 +86,26 @@ std::vector<CaseFile::Patch> CaseFile::patches() const {
     });
 }
 
+std::vector<CaseFile::MrfZone> CaseFile::mrfZones() const {
+    return namingFile(path_, [&] {
+        std::vector<MrfZone> out;
+        if (!h5::exists(file_, "/mesh/mrf")) return out;
+        const auto g = h5::openGroup(file_, "/mesh/mrf");
+        for (const auto& name : h5::members(g)) {
+            const auto attrs = h5::attrsJson(h5::openGroup(g, name));
+            MrfZone z;
+            z.name = name;
+            z.omega = attrs.at("omega_rad_s").get<double>();
+            z.cells = h5::readInts(file_, "/mesh/zones/" + attrs.at("cell_zone").get<std::string>());
+            const auto o = h5::readDoubles(g, name + "/origin"), a = h5::readDoubles(g, name + "/axis");
+            z.origin = Eigen::Vector3d(o.at(0), o.at(1), o.at(2));
+            z.axis = Eigen::Vector3d(a.at(0), a.at(1), a.at(2)).normalized();
+            out.push_back(std::move(z));
+        }
+        return out;
+    });
+}
+
 std::vector<double> CaseFile::meshDoubles(const std::string& name) const {
     return namingFile(path_, [&] { return h5::readDoubles(file_, "/mesh/" + name); });
 }

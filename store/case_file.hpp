@@ -43,6 +43,15 @@ public:
         long long start = 0, size = 0;
     };
     std::vector<Patch> patches() const;
+    // A frozen-rotor (MRF) zone as the solver read it: its cells, axis and speed. None for a case
+    // without MRF or a file written before zones were kept.
+    struct MrfZone {
+        std::string name;
+        std::vector<int32_t> cells;
+        Eigen::Vector3d origin, axis;
+        double omega = 0;  // rad/s
+    };
+    std::vector<MrfZone> mrfZones() const;
     std::vector<double> meshDoubles(const std::string& name) const;  // /mesh/<name>, flattened
     std::vector<int32_t> meshInts(const std::string& name) const;
 

@@ -94,6 +94,8 @@ Eigen::VectorXd SnapshotFile::faceColumn(const std::string& field, size_t t) con
     return rowOf(file_, path_, "/faces/" + field, t, times_.size(), "face field");
 }
 
+bool SnapshotFile::hasFaceField(const std::string& field) const { return h5::exists(file_, "/faces/" + field); }
+
 
 
 Eigen::MatrixXd SnapshotFile::matrix(const std::string& field, const std::vector<size_t>& timeIndices) const {

@@ -41,6 +41,7 @@ public:
     Eigen::VectorXd boundaryColumn(const std::string& field, size_t timeIndex) const;
     // A face field (phi): internal faces, then the non-empty patches' faces.
     Eigen::VectorXd faceColumn(const std::string& field, size_t timeIndex) const;
+    bool hasFaceField(const std::string& field) const;
     // Every time (or the given ones) as columns.
     Eigen::MatrixXd matrix(const std::string& field, const std::vector<size_t>& timeIndices = {}) const;
     // Provenance, params, time range and every dataset's shape, type and stored size; verify reads

@@ -384,6 +384,69 @@ std::vector<std::string> timeDirectories(const fs::path& caseDir) {
     return out;
 }
 
+std::vector<std::pair<std::string, std::vector<int32_t>>> readCellZones(const fs::path& polyMeshDir) {
+    const fs::path file = polyMeshDir / "cellZones";
+    std::vector<std::pair<std::string, std::vector<int32_t>>> out;
+    if (!fs::exists(file)) return out;
+    FoamReader r(file);
+    const auto n = r.number<long long>();
+    r.expect('(');
+    for (long long i = 0; i < n; ++i) {
+        std::string name = r.word();
+        r.expect('{');
+        r.seekKeyword("cellLabels");
+        if (!std::isdigit(static_cast<unsigned char>(r.peek()))) r.word();  // "List<label>"
+        out.emplace_back(std::move(name), r.list<int32_t, 1>());
+        r.expect(';');
+        r.expect('}');
+    }
+    return out;
+}
+
+std::vector<MrfZone> readMrfZones(const fs::path& caseDir) {
+    const fs::path file = caseDir / "constant" / "MRFProperties";
+    std::vector<MrfZone> out;
+    if (!fs::exists(file)) return out;
+    const std::string text = readFile(file);
+    const auto entry = [&](const std::string& block, const std::string& key) {
+        std::smatch m;
+        if (!std::regex_search(block, m, std::regex("(^|[\\s;])" + key + "\\s+([^;]+);")))
+            throw std::runtime_error(file.string() + ": an MRF zone without '" + key + "'");
+        return m[2].str();
+    };
+    const auto vec = [&](const std::string& s) {
+        std::smatch m;
+        Vec3 v{};
+        if (!std::regex_match(s, m, std::regex("\\s*\\(\\s*(\\S+)\\s+(\\S+)\\s+(\\S+)\\s*\\)\\s*")))
+            throw std::runtime_error(file.string() + ": '" + s + "' is not a vector");
+        for (size_t k = 0; k < 3; ++k) {
+            const auto x = parseNumber(m[k + 1].str());
+            if (!x) throw std::runtime_error(file.string() + ": '" + s + "' is not a vector");
+            v[k] = *x;
+        }
+        return v;
+    };
+    // Every "name { ... }" block after the header is a zone (mixload writes no nested braces).
+    const std::string body = text.substr(text.find('}', text.find("FoamFile")) + 1);
+    const std::regex block("(\\w+)\\s*\\{([^{}]*)\\}");
+    for (auto it = std::sregex_iterator(body.begin(), body.end(), block); it != std::sregex_iterator(); ++it) {
+        const std::string b = (*it)[2];
+        // OpenFOAM's default is active.
+        std::smatch a;
+        if (std::regex_search(b, a, std::regex("(^|[\\s;])active\\s+(no|off|false|0)\\s*;"))) continue;
+        MrfZone z;
+        z.name = (*it)[1];
+        z.cellZone = entry(b, "cellZone");
+        z.origin = vec(entry(b, "origin"));
+        z.axis = vec(entry(b, "axis"));
+        const auto omega = parseNumber(entry(b, "omega"));
+        if (!omega) throw std::runtime_error(file.string() + ": omega of zone " + z.name + " is not a number");
+        z.omega = *omega;
+        out.push_back(z);
+    }
+    return out;
+}
+
 }  // namespace mixload::post
 
 namespace mixload::post {

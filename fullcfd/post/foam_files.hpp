@@ -64,4 +64,17 @@ PowderTransport readPowderTransport(const std::filesystem::path& caseDir);
 // Time directories of a case (numeric names), sorted by time; the names as written.
 std::vector<std::string> timeDirectories(const std::filesystem::path& caseDir);
 
+// The cell zones of a polyMesh directory (constant/polyMesh/cellZones), by name; none when the
+// mesh has no such file.
+std::vector<std::pair<std::string, std::vector<int32_t>>> readCellZones(const std::filesystem::path& polyMeshDir);
+
+// The frozen-rotor zones of constant/MRFProperties (none without the file or with inactive zones):
+// what turns the solver's absolute velocity into the flux it transports the powder with.
+struct MrfZone {
+    std::string name, cellZone;
+    Vec3 origin{}, axis{};
+    double omega = 0;  // rad/s
+};
+std::vector<MrfZone> readMrfZones(const std::filesystem::path& caseDir);
+
 }  // namespace mixload::post

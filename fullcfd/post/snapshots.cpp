@@ -187,6 +187,25 @@ nlohmann::json exportSnapshots(const SnapshotExport& e) {
                 h5::attr(pg, "start_face", static_cast<long long>(p.start));
                 h5::attr(pg, "n_faces", static_cast<long long>(p.size));
             }
+            // The cell zones and the frozen-rotor zones' rotation: a mixer's powder is carried by
+            // the flux relative to the rotor there, which a reduced model rebuilding a flux from U
+            // needs (rom/operators/steady_transport).
+            const auto zones = readCellZones(run / "constant" / "polyMesh");
+            if (!zones.empty()) {
+                auto zg = h5::createGroup(g, "zones");
+                for (const auto& [name, cells] : zones) h5::write(zg, name, cells);
+            }
+            const auto mrf = readMrfZones(run);
+            if (!mrf.empty()) {
+                auto mg = h5::createGroup(g, "mrf");
+                for (const auto& z : mrf) {
+                    auto zg = h5::createGroup(mg, z.name);
+                    h5::attr(zg, "cell_zone", z.cellZone);
+                    h5::attr(zg, "omega_rad_s", z.omega);
+                    h5::write(zg, "origin", {3}, {z.origin.begin(), z.origin.end()});
+                    h5::write(zg, "axis", {3}, {z.axis.begin(), z.axis.end()});
+                }
+            }
         }
         for (const auto& t : picked) timeValues.push_back(std::stod(t));
         {

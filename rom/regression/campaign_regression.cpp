@@ -12,6 +12,7 @@
 #include "rom/galerkin/collapse_shape.hpp"
 #include "rom/operators/alpha_transport.hpp"
 #include "rom/operators/fv_mesh.hpp"
+#include "rom/operators/steady_transport.hpp"
 #include "rom/regression/pod_regression.hpp"
 #include "store/campaign_fields.hpp"
 #include "store/snapshot_file.hpp"
@@ -44,6 +45,10 @@ struct CampaignFields {
     std::string scene;
     FvMesh mesh;
     std::optional<CollapseShape> shape;
+    // Mixer: the frozen-rotor zones (empty when no kept file has them) and each run's feed and
+    // speed, for the reduced steady model.
+    std::vector<store::CaseFile::MrfZone> zones;
+    std::vector<double> feedKgH, rpm;
 
     // minRuns: a training campaign needs three runs and inputs that vary; a hold-out one, a run.
     static CampaignFields load(const fs::path& ledger, const std::string& campaign, size_t minRuns = 3) {
@@ -78,7 +83,14 @@ struct CampaignFields {
             c.F.col(i) = f.alpha;
             for (size_t q = 0; q < c.qois.size(); ++q) c.Q(i, static_cast<Eigen::Index>(q)) = f.run.result.at(c.qois[q]).get<double>();
             c.rho.push_back(c.mixer ? f.bulkDensity : 0.0);
+            const auto scene = c.source->params();
+            const auto value = [&](const char* k) {
+                return f.run.params.contains(k) ? f.run.params[k].get<double>() : scene.value(k, 0.0);
+            };
+            c.feedKgH.push_back(value("feed_kg_h"));
+            c.rpm.push_back(value("rpm"));
         }
+        if (c.mixer) c.zones = c.source->mrfZones();
         bool everyU = true;
         for (const auto& f : finals.runs) everyU = everyU && f.U.size() == 3 * c.mesh.cells && f.U.allFinite();
         if (everyU) {
@@ -87,6 +99,26 @@ struct CampaignFields {
             c.wU = c.mesh.V.replicate(1, 3).transpose().reshaped();
         }
         return c;
+    }
+
+    // The reduced steady model: the loading a velocity field holds once the steady powder
+    // transport from the inlet has filled it (rom/operators/steady_transport), with the run's
+    // feed entering the inlet as powder and the rotor turning at its speed. NaN without MRF zones.
+    double steadyLoading(const Eigen::VectorXd& u, double rho, double feedKgH, double rpmValue) const {
+        if (!mixer || zones.empty() || !(rho > 0)) return std::nan("");
+        const Vectors U = asVectors(u);
+        Vectors boundaryU = Vectors::Zero(mesh.boundaryFaces, 3);
+        for (const auto& p : mesh.patches) {
+            const double area = mesh.magSf.segment(p.start, p.size).sum();
+            for (Eigen::Index f = p.start; f < p.start + p.size; ++f) {
+                if (p.name == "inlet") boundaryU.row(f - mesh.internalFaces) = -feedKgH / 3600 / rho / area * mesh.Sf.row(f) / mesh.magSf[f];
+                else if (p.name == "outlet") boundaryU.row(f - mesh.internalFaces) = U.row(mesh.owner[f]);
+            }
+        }
+        auto turning = zones;
+        for (auto& z : turning) z.omega = rpmValue * 2 * M_PI / 60;
+        const auto s = steadyPowder(mesh, fluxFromVelocity(mesh, U, boundaryU, turning, "outlet"), {{"inlet", 1.0}});
+        return rho * clampFraction(s.alpha).dot(mesh.V);
     }
 
     // What a field says of a run: the instantaneous loading (at bulk density rho) or the
@@ -109,6 +141,9 @@ struct Tally {
     std::vector<double> reg, krig, field, regMax, krigMax;
     double alpha = 0, u = 0, seconds = 0;
     int runs = 0;
+    // The reduced steady model on the predicted and on the run's own velocity.
+    double steady = 0, steadyMax = 0, steadyOwn = 0, steadySeconds = 0;
+    int steadyRuns = 0;
     explicit Tally(size_t q) : reg(q), krig(q), field(q), regMax(q), krigMax(q) {}
 };
 
@@ -131,8 +166,14 @@ struct Fitted {
 
 // One run predicted from the training runs by POD regression (its field, and the quantities read
 // from it) and by kriging of the quantities, against the run's own field and recorded quantities.
+struct SteadyPoint {
+    bool valid = false;
+    double feedKgH = 0, rpm = 0;
+};
+
 nlohmann::json checkRun(const CampaignFields& c, const Fitted& fit, const Eigen::VectorXd& x, const Eigen::VectorXd& alphaRun,
-                        const Eigen::VectorXd& uRun, const Eigen::RowVectorXd& qRun, double rho, Tally& tally) {
+                        const Eigen::VectorXd& uRun, const Eigen::RowVectorXd& qRun, double rho, const SteadyPoint& steady,
+                        Tally& tally) {
     const auto t0 = Clock::now();
     const Eigen::VectorXd alpha = fit.alpha.predict(x);
     const auto q = c.quantities(alpha, rho);
@@ -143,11 +184,27 @@ nlohmann::json checkRun(const CampaignFields& c, const Fitted& fit, const Eigen:
     ++tally.runs;
     nlohmann::json row{{"alpha_error", aErr}, {"modes", fit.alpha.modes()}};
     for (size_t k = 0; k < c.inputs.size(); ++k) row[c.inputs[k]] = x[static_cast<Eigen::Index>(k)];
+    nlohmann::json steadyRow;
     if (fit.U && uRun.size() > 0) {
         const Eigen::VectorXd u = fit.U->predict(x);
         const double e = std::sqrt((u - uRun).cwiseAbs2().dot(c.wU) / uRun.cwiseAbs2().dot(c.wU));
         row["u_error"] = e;
         tally.u += e;
+        if (steady.valid) {
+            const auto t1 = Clock::now();
+            const double m = c.steadyLoading(u, rho, steady.feedKgH, steady.rpm);
+            tally.steadySeconds += secondsSince(t1);
+            const double own = c.steadyLoading(uRun, rho, steady.feedKgH, steady.rpm);
+            const double truth = qRun[0];
+            steadyRow = {{"steady_model", m},
+                         {"steady_model_error", (m - truth) / truth},
+                         {"steady_model_on_run_u", own},
+                         {"steady_model_on_run_u_error", (own - truth) / truth}};
+            tally.steady += std::abs(m - truth) / truth;
+            tally.steadyMax = std::max(tally.steadyMax, std::abs(m - truth) / truth);
+            tally.steadyOwn += std::abs(own - truth) / truth;
+            ++tally.steadyRuns;
+        }
     }
     const Eigen::VectorXd xs = fit.box(x);
     for (size_t k = 0; k < c.qois.size(); ++k) {
@@ -165,6 +222,7 @@ nlohmann::json checkRun(const CampaignFields& c, const Fitted& fit, const Eigen:
         tally.regMax[k] = std::max(tally.regMax[k], er), tally.krigMax[k] = std::max(tally.krigMax[k], ek);
         tally.field[k] += std::abs(qStored[k] - truth) / std::abs(truth);
     }
+    if (!steadyRow.is_null()) row["loading_kg"].update(steadyRow);
     return row;
 }
 
@@ -177,6 +235,11 @@ nlohmann::json summarise(const CampaignFields& c, const Tally& t, bool withU) {
                               {"kriging_mean_abs_error", t.krig[k] / n},
                               {"kriging_max_abs_error", t.krigMax[k]},
                               {"stored_field_mean_abs_error", t.field[k] / n}};
+    if (t.steadyRuns > 0)
+        summary["loading_kg"]["steady_model_mean_abs_error"] = t.steady / t.steadyRuns,
+        summary["loading_kg"]["steady_model_max_abs_error"] = t.steadyMax,
+        summary["loading_kg"]["steady_model_on_run_u_mean_abs_error"] = t.steadyOwn / t.steadyRuns,
+        summary["loading_kg"]["steady_model_seconds"] = t.steadySeconds / t.steadyRuns;
     return {{"scene", c.scene},
             {"inputs", c.inputs},
             {"cells", c.mesh.cells},
@@ -197,8 +260,10 @@ nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string
     for (Eigen::Index i = 0; i < n; ++i) {
         Training t{without(c.X, i), without(c.F.transpose(), i).transpose(),
                    withU ? Eigen::MatrixXd(without(c.U.transpose(), i).transpose()) : Eigen::MatrixXd(), without(c.Q, i)};
+        const auto r = static_cast<size_t>(i);
         auto row = checkRun(c, Fitted(c, t, o), c.X.row(i).transpose(), c.F.col(i),
-                            withU ? Eigen::VectorXd(c.U.col(i)) : Eigen::VectorXd(), c.Q.row(i), c.rho[static_cast<size_t>(i)], tally);
+                            withU ? Eigen::VectorXd(c.U.col(i)) : Eigen::VectorXd(), c.Q.row(i), c.rho[r],
+                            {withU && !c.zones.empty(), c.feedKgH[r], c.rpm[r]}, tally);
         row["run"] = c.runs[static_cast<size_t>(i)].index;
         rows.push_back(row);
     }
@@ -235,7 +300,7 @@ nlohmann::json campaignRegressionHoldout(const fs::path& ledger, const std::stri
         if (!inside) outside.push_back(h.runs[j].index);
         const auto i = static_cast<Eigen::Index>(j);
         auto row = checkRun(c, fit, x, h.F.col(i), withU ? Eigen::VectorXd(h.U.col(i)) : Eigen::VectorXd(), h.Q.row(i),
-                            h.rho[j], tally);
+                            h.rho[j], {withU && !c.zones.empty(), h.feedKgH[j], h.rpm[j]}, tally);
         row["run"] = h.runs[j].index;
         rows.push_back(row);
     }

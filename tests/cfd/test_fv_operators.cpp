@@ -4,6 +4,8 @@
 // binary fields, rotating walls, inlet and outlet patches), and the mu(I) viscosity against the
 // solver's own viscosity model. OpenFOAM's results come from
 // mixloadFvcRef (fullcfd/verify), written in binary; every operator agrees to 1e-10 relative.
+// The mixer's steady powder transport (the reduced steady model's step) is checked on the same kind
+// of run: it conserves powder, and the flux it rebuilds from U is the solver's.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,6 +17,7 @@
 #include "post/foam_files.hpp"
 #include "rom/operators/fv_operators.hpp"
 #include "rom/operators/granular_viscosity.hpp"
+#include "rom/operators/steady_transport.hpp"
 #include "run/foam_runner.hpp"
 #include "store/snapshot_file.hpp"
 
@@ -97,4 +100,55 @@ TEST(FvOperators, AgreeWithOpenFoamOnAMixer) {
                                run.string(), "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
     checkOperators(run);
+}
+
+TEST(SteadyTransport, ConservesPowderAndRebuildsTheSolversFlux) {
+    const fs::path run = scratchDir("steady-mixer") / "run";
+    auto r = runMixload({"mixer", "--scene", "gcm250", "--cell-size", "0.01", "--end-time", "0.05", "--out", run.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const fs::path h5 = run / "steady.h5";
+    r = runMixload({"snapshots", "export", run.string(), "-o", h5.string(), "--fields", "alpha,U,phi", "--float64"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const store::SnapshotFile f(h5);
+    const auto m = rom::FvMesh::fromCase(f);
+    // The frozen rotor as the solver read it: a zone inside the mesh, turning at the scene's speed.
+    const auto zones = f.mrfZones();
+    ASSERT_EQ(zones.size(), 1u);
+    EXPECT_GT(zones[0].cells.size(), 0u);
+    EXPECT_LT(zones[0].cells.size(), static_cast<size_t>(m.cells));
+    EXPECT_NEAR(zones[0].omega, f.params().at("rpm").get<double>() * 2 * M_PI / 60, 1e-9 * zones[0].omega);
+
+    const size_t t = f.times().size() - 1;
+    const Eigen::VectorXd phi = f.faceColumn("phi", t);
+    const auto s = rom::steadyPowder(m, phi, {{"inlet", 1.0}});
+    std::cout << "steady powder: inflow " << s.inflow << " m3/s, outflow " << s.outflow << ", residual " << s.residual << '\n';
+    EXPECT_LT(s.residual, 1e-10);
+    EXPECT_GT(s.inflow, 0);
+    EXPECT_LT(std::abs(s.outflow - s.inflow) / s.inflow, 1e-3) << "the steady powder leaves as it enters";
+    EXPECT_GT(s.alpha.minCoeff(), -1e-9);
+    EXPECT_LT(s.alpha.maxCoeff(), 1 + 1e-9);
+
+    const Eigen::VectorXd rebuilt = rom::fluxFromVelocity(m, rom::asVectors(f.column("U", t)),
+                                                          rom::asVectors(f.boundaryColumn("U", t)), zones, "outlet");
+    const Eigen::VectorXd sources = rom::div(m, rebuilt).cwiseProduct(m.V);
+    EXPECT_LT(sources.cwiseAbs().maxCoeff() / rebuilt.cwiseAbs().maxCoeff(), 1e-10) << "divergence-free";
+    const auto in = m.internalFaces;
+    const double err = (rebuilt.head(in) - phi.head(in)).norm() / phi.head(in).norm();
+    std::cout << "flux rebuilt from U against phi: relative L2 " << err << '\n';
+    EXPECT_LT(err, 0.1);
+    // Without the rotor's frame the rebuilt flux is the absolute one, several times further off.
+    const Eigen::VectorXd absolute = rom::fluxFromVelocity(m, rom::asVectors(f.column("U", t)),
+                                                           rom::asVectors(f.boundaryColumn("U", t)), {}, "outlet");
+    EXPECT_GT((absolute.head(in) - phi.head(in)).norm() / phi.head(in).norm(), 3 * err);
+
+    r = runMixload({"rom", "steady", h5.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_TRUE(j["from_phi"].get<bool>());
+    EXPECT_TRUE(j["from_u"].get<bool>());
+    ASSERT_FALSE(j["times"].empty());
+    EXPECT_GT(j["times"].back()["steady_from_phi_kg"].get<double>(), 0);
+    // A collapse is refused with the field named.
+    r = runMixload({"rom", "steady", (run / "missing.h5").string()});
+    EXPECT_EQ(r.rc, 2);
 }
