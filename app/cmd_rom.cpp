@@ -536,7 +536,7 @@ void addRom(CLI::App& app, Action& action) {
     // would hold with the run's flux, or with the flux rebuilt from its velocity.
     struct SteadyCmd {
         std::string file;
-        int every = 1;
+        rom::SteadyCheckOptions opt;
         bool json = false;
     };
     auto st = std::make_shared<SteadyCmd>();
@@ -544,12 +544,19 @@ void addRom(CLI::App& app, Action& action) {
         "steady", "A mixer run's loading beside the loading its flow would hold at steady state (steady upwind powder "
                   "transport from the inlet), from the solver's flux phi and from the flux rebuilt from U");
     steady->add_option("FILE", st->file, "Mixer snapshots (snapshots export RUN -o F.h5 --fields alpha,U,phi)")->required();
-    steady->add_option("--every", st->every, "Every k-th stored time (the last always)")->capture_default_str();
+    steady->add_option("--every", st->opt.every, "Every k-th stored time (the last always)")->capture_default_str();
+    steady->add_option("--mean-last", st->opt.meanLast, "Also the steady transport of phi averaged over the last K stored times")
+        ->capture_default_str();
+    steady->add_option("--march", st->opt.marchSeconds,
+                       "Also march alpha from the last stored state for this many seconds on that mean flux (explicit, "
+                       "compressive, as the solver)")
+        ->capture_default_str();
+    steady->add_option("--c-alpha", st->opt.cAlpha, "The march's interface compression")->capture_default_str();
     steady->add_flag("--json", st->json, "Print JSON");
     steady->callback([&action, st] {
         action = [st] {
             const store::SnapshotFile f(st->file);
-            const auto j = rom::steadyLoadingCheck(f, st->every);
+            const auto j = rom::steadyLoadingCheck(f, st->opt);
             if (st->json) {
                 std::cout << j.dump(2) << '\n';
                 return 0;
@@ -566,6 +573,21 @@ void addRom(CLI::App& app, Action& action) {
             for (const auto& r : j["times"])
                 std::cout << cell(r, "time_s", 10) << cell(r, "loading_kg", 14) << cell(r, "steady_from_phi_kg", 22)
                           << cell(r, "steady_from_u_kg", 20) << cell(r, "flux_error_u", 17) << '\n';
+            if (j.contains("mean_flux")) {
+                const auto& mf = j["mean_flux"];
+                std::cout << "  phi averaged over the last " << mf["times"] << " times (" << mf["from_s"].get<double>() << " to "
+                          << mf["to_s"].get<double>() << " s): the run holds " << std::setprecision(4)
+                          << mf["loading_kg"].get<double>() << " kg, its steady transport " << mf["steady_kg"].get<double>() << " kg\n";
+            }
+            if (j.contains("march")) {
+                const auto& mr = j["march"];
+                std::cout << "  alpha marched on that flux (cAlpha " << mr["c_alpha"].get<double>() << ", " << mr["steps"] << " steps, "
+                          << std::setprecision(3) << mr["wall_seconds"].get<double>() << " s):";
+                for (const auto& h : mr["history"])
+                    std::cout << ' ' << std::setprecision(3) << h["time_s"].get<double>() << " s " << std::setprecision(4)
+                              << h["loading_kg"].get<double>() << " kg;";
+                std::cout << '\n';
+            }
             return 0;
         };
     });

@@ -1,24 +1,37 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "rom/operators/alpha_transport.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "common/input_error.hpp"
 #include "rom/operators/fv_operators.hpp"
 
 namespace mixload::rom {
 
-Eigen::VectorXd alphaBoundary(const FvMesh& m, const Eigen::VectorXd& alpha, const Eigen::VectorXd& flux, double inflow) {
+Eigen::VectorXd patchValues(const FvMesh& m, const std::map<std::string, double>& byPatch) {
+    Eigen::VectorXd v = Eigen::VectorXd::Zero(m.boundaryFaces);
+    for (const auto& [name, value] : byPatch) {
+        const auto p = std::find_if(m.patches.begin(), m.patches.end(), [&](const FvMesh::Patch& q) { return q.name == name; });
+        if (p == m.patches.end()) throw InputError("patch", name, "a patch of the mesh");
+        v.segment(p->start - m.internalFaces, p->size).setConstant(value);
+    }
+    return v;
+}
+
+Eigen::VectorXd alphaBoundary(const FvMesh& m, const Eigen::VectorXd& alpha, const Eigen::VectorXd& flux,
+                              const Eigen::VectorXd& inflow) {
     Eigen::VectorXd b(m.boundaryFaces);
     for (Eigen::Index i = 0; i < m.boundaryFaces; ++i) {
         const Eigen::Index f = m.internalFaces + i;
-        b[i] = flux[f] < 0 ? inflow : alpha[m.owner[f]];
+        b[i] = flux[f] < 0 ? inflow[i] : alpha[m.owner[f]];
     }
     return b;
 }
 
 Eigen::VectorXd advanceAlpha(const FvMesh& m, const Eigen::VectorXd& alpha, const Eigen::VectorXd& flux, double dt,
-                             double inflow, double cAlpha) {
+                             const Eigen::VectorXd& inflow, double cAlpha) {
     const Eigen::VectorXd ab = alphaBoundary(m, alpha, flux, inflow);
     const Vectors g = grad(m, alpha, ab);
     // The bounded part: van Leer face values.

@@ -4,6 +4,7 @@
 #include <Eigen/Sparse>
 
 #include "common/input_error.hpp"
+#include "rom/operators/alpha_transport.hpp"
 
 namespace mixload::rom {
 
@@ -19,11 +20,7 @@ const FvMesh::Patch& patchNamed(const FvMesh& m, const std::string& name) {
 
 SteadyPowder steadyPowder(const FvMesh& m, const Eigen::VectorXd& flux, const std::map<std::string, double>& inflowFraction) {
     const Eigen::Index n = m.cells;
-    Eigen::VectorXd boundaryFraction = Eigen::VectorXd::Zero(m.boundaryFaces);
-    for (const auto& [name, value] : inflowFraction) {
-        const auto& p = patchNamed(m, name);
-        boundaryFraction.segment(p.start - m.internalFaces, p.size).setConstant(value);
-    }
+    const Eigen::VectorXd boundaryFraction = patchValues(m, inflowFraction);
     double inflow = 0;
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
     Triplets t;

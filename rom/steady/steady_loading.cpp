@@ -4,12 +4,17 @@
 #include <chrono>
 
 #include "common/input_error.hpp"
+#include "rom/operators/alpha_transport.hpp"
 #include "rom/operators/steady_transport.hpp"
 
 namespace mixload::rom {
 
-nlohmann::json steadyLoadingCheck(const store::SnapshotFile& f, int every) {
+nlohmann::json steadyLoadingCheck(const store::SnapshotFile& f, const SteadyCheckOptions& o) {
+    const int every = o.every;
     if (every < 1) throw InputError("--every", std::to_string(every), "1 or more");
+    if (o.meanLast < 0) throw InputError("--mean-last", std::to_string(o.meanLast), "0 (none) or more");
+    if (!(o.marchSeconds >= 0)) throw InputError("--march", std::to_string(o.marchSeconds), "0 (none) or more seconds");
+    if (!(o.cAlpha >= 0)) throw InputError("--c-alpha", std::to_string(o.cAlpha), "0 or more");
     const auto params = f.params();
     if (params.value("scene", std::string()) != "mixer3d")
         throw InputError("snapshots", f.path().string(), "a mixer run's snapshots");
@@ -58,7 +63,7 @@ nlohmann::json steadyLoadingCheck(const store::SnapshotFile& f, int every) {
         }
         rows.push_back(row);
     }
-    return {{"file", f.path().string()},
+    nlohmann::json out{{"file", f.path().string()},
             {"cells", m.cells},
             {"bulk_density_kg_m3", rho},
             {"mrf_zones", zones.size()},
@@ -66,6 +71,43 @@ nlohmann::json steadyLoadingCheck(const store::SnapshotFile& f, int every) {
             {"from_u", hasU},
             {"seconds_per_steady_solve", solves ? seconds / solves : 0.0},
             {"times", rows}};
+
+    // The flux averaged over the last stored times (a run's flow at its steady state, without its
+    // fluctuations), then the march on it.
+    const int k = std::min<int>(o.meanLast > 0 ? o.meanLast : (o.marchSeconds > 0 ? 1 : 0), static_cast<int>(times.size()));
+    if (k == 0) return out;
+    if (!hasPhi) throw InputError("snapshots", f.path().string(), "phi for --mean-last and --march (snapshots export --fields alpha,U,phi)");
+    Eigen::VectorXd phi = Eigen::VectorXd::Zero(m.faces());
+    double held = 0;
+    for (size_t i = times.size() - static_cast<size_t>(k); i < times.size(); ++i) {
+        phi += f.faceColumn("phi", i) / k;
+        held += mass(f.column("alpha", i)) / k;
+    }
+    out["mean_flux"] = {{"times", k},
+                        {"from_s", times[times.size() - static_cast<size_t>(k)]},
+                        {"to_s", times.back()},
+                        {"loading_kg", held},
+                        {"steady_kg", mass(steadyPowder(m, phi, inlet).alpha)}};
+    if (o.marchSeconds > 0) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const Eigen::VectorXd inflow = patchValues(m, inlet);
+        const double dt = transportStep(m, phi, 0.5);
+        Eigen::VectorXd alpha = f.column("alpha", times.size() - 1);
+        nlohmann::json history = nlohmann::json::array({{{"time_s", 0.0}, {"loading_kg", mass(alpha)}}});
+        double t = 0, next = o.marchSeconds / 10;
+        long steps = 0;
+        while (t < o.marchSeconds) {
+            alpha = advanceAlpha(m, alpha, phi, dt, inflow, o.cAlpha);
+            t += dt, ++steps;
+            if (t >= next - 0.5 * dt) history.push_back({{"time_s", t}, {"loading_kg", mass(alpha)}}), next += o.marchSeconds / 10;
+        }
+        out["march"] = {{"c_alpha", o.cAlpha},
+                        {"step_s", dt},
+                        {"steps", steps},
+                        {"wall_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
+                        {"history", history}};
+    }
+    return out;
 }
 
 }  // namespace mixload::rom

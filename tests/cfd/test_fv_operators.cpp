@@ -141,9 +141,15 @@ TEST(SteadyTransport, ConservesPowderAndRebuildsTheSolversFlux) {
                                                            rom::asVectors(f.boundaryColumn("U", t)), {}, "outlet");
     EXPECT_GT((absolute.head(in) - phi.head(in)).norm() / phi.head(in).norm(), 3 * err);
 
-    r = runMixload({"rom", "steady", h5.string(), "--json"});
+    r = runMixload({"rom", "steady", h5.string(), "--mean-last", "2", "--march", "0.01", "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
+    // The march starts from the run's last state and keeps the powder's fraction bounded.
+    ASSERT_TRUE(j.contains("march"));
+    EXPECT_GT(j["march"]["steps"].get<long>(), 0);
+    EXPECT_NEAR(j["march"]["history"].front()["loading_kg"].get<double>(), j["times"].back()["loading_kg"].get<double>(), 1e-12);
+    EXPECT_GT(j["mean_flux"]["steady_kg"].get<double>(), 0);
+    EXPECT_EQ(runMixload({"rom", "steady", h5.string(), "--march", "-1"}).rc, 2);
     EXPECT_TRUE(j["from_phi"].get<bool>());
     EXPECT_TRUE(j["from_u"].get<bool>());
     ASSERT_FALSE(j["times"].empty());
