@@ -56,6 +56,18 @@ nlohmann::json keepCampaignFields(const fs::path& ledger, const std::string& cam
     std::optional<SnapshotFile> source;
     if (kept.file) source.emplace(kept.file->path());
     int added = 0, upgraded = 0;
+    // The MRF zones travel with the mesh (the reduced steady model needs them): a kept file written
+    // before they were kept takes them from any run directory whose snapshots have them.
+    bool zonesAdded = false;
+    if (source && source->mrfZones().empty())
+        for (const auto& r : runs) {
+            if (!hasSnapshots(r)) continue;
+            const SnapshotFile f(fs::path(r.runDir) / "snapshots.h5");
+            if (f.meshFingerprint() != source->meshFingerprint() || f.mrfZones().empty()) continue;
+            source.emplace(f.path());
+            zonesAdded = true;
+            break;
+        }
     const auto cells = [&] { return source ? source->cells() : 0; };
     for (const auto& r : runs) {
         const auto it = kept.byIndex.find(r.index);
@@ -91,7 +103,7 @@ nlohmann::json keepCampaignFields(const fs::path& ledger, const std::string& cam
     }
     const fs::path file = campaignFieldsFile(ledger);
     if (alphas.empty()) throw InputError("campaign", campaign, "finished runs with snapshots to keep (campaign run --snapshots)");
-    if (added + upgraded > 0) {
+    if (added + upgraded > 0 || zonesAdded) {
         const auto n = static_cast<Eigen::Index>(alphas.size());
         Eigen::MatrixXd alpha(alphas.front().size(), n), U(3 * alphas.front().size(), n);
         for (Eigen::Index i = 0; i < n; ++i) {
@@ -104,7 +116,8 @@ nlohmann::json keepCampaignFields(const fs::path& ledger, const std::string& cam
                                {"kept_runs", records.dump()}},
                               file);
     }
-    return {{"file", file.string()}, {"kept", alphas.size()}, {"added", added}, {"velocity_added", upgraded}};
+    return {{"file", file.string()}, {"kept", alphas.size()}, {"added", added}, {"velocity_added", upgraded},
+            {"zones_added", zonesAdded}};
 }
 
 FinalFields campaignFinalFields(const fs::path& ledger, const std::string& campaign) {

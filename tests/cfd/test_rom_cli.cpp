@@ -244,6 +244,14 @@ TEST(RomRegression, MixerCampaignReadsItsLoadingFromTheField) {
     EXPECT_TRUE(std::isfinite(s["pod_regression_mean_abs_error"].get<double>()));
     ASSERT_FALSE(j["u_error_mean"].is_null());
     EXPECT_TRUE(std::isfinite(j["u_error_mean"].get<double>()));
+    // The reduced steady model (steady powder transport on the regressed velocity) reports beside
+    // them: the kept fields carry the frozen rotor's zone it needs.
+    EXPECT_FALSE(store::SnapshotFile(dir / "m" / "fields.h5").mrfZones().empty());
+    ASSERT_TRUE(s.contains("steady_model_mean_abs_error")) << s.dump();
+    EXPECT_TRUE(std::isfinite(s["steady_model_mean_abs_error"].get<double>()));
+    EXPECT_TRUE(std::isfinite(j["rows"][0]["loading_kg"]["steady_model_on_run_u"].get<double>()));
+    std::cout << "mixer: steady model " << s["steady_model_mean_abs_error"] << " (on the runs' own U "
+              << s["steady_model_on_run_u_mean_abs_error"] << ")\n";
 
     // The regression's field at a new point starts a full run there (a warm start without a run):
     // the run begins with the field's loading; a field of another mesh is refused before any run.
