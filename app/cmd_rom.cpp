@@ -519,8 +519,12 @@ void addRom(CLI::App& app, Action& action) {
                                               : "checked on the " + std::to_string(j["holdout_runs"].get<int>()) + " runs of " + rg->holdout)
                       << "\n  final alpha error mean "
                       << j["alpha_error_mean"].get<double>();
-            if (!j["u_error_mean"].is_null()) std::cout << ", final U error mean " << j["u_error_mean"].get<double>();
-            else std::cout << " (U: " << j["velocity"].get<std::string>() << ")";
+            if (!j["u_error_mean"].is_null()) {
+                std::cout << ", final U error mean " << j["u_error_mean"].get<double>();
+                if (j["velocity"] != "every run") std::cout << " (" << j["velocity"].get<std::string>() << ")";
+            } else {
+                std::cout << " (U: " << j["velocity"].get<std::string>() << ")";
+            }
             std::cout << ", " << 1e3 * j["predict_seconds"].get<double>() << " ms per prediction\n";
             for (const auto& [q, s] : j["summary"].items())
                 std::cout << "  " << q << ": mean |error| POD regression " << 100 * s["pod_regression_mean_abs_error"].get<double>()
@@ -528,6 +532,11 @@ void addRom(CLI::App& app, Action& action) {
                           << 100 * s["kriging_mean_abs_error"].get<double>() << "% (max "
                           << 100 * s["kriging_max_abs_error"].get<double>() << "%) (the stored field itself "
                           << 100 * s["stored_field_mean_abs_error"].get<double>() << "%)\n";
+            if (const auto& l = j["summary"].value("loading_kg", nlohmann::json::object()); l.contains("steady_model_mean_abs_error"))
+                std::cout << "  loading_kg: mean |error| steady transport model " << 100 * l["steady_model_mean_abs_error"].get<double>()
+                          << "% (max " << 100 * l["steady_model_max_abs_error"].get<double>() << "%; on the runs' own U "
+                          << 100 * l["steady_model_on_run_u_mean_abs_error"].get<double>() << "%), "
+                          << l["steady_model_seconds"].get<double>() << " s per prediction\n";
             return 0;
         };
     });

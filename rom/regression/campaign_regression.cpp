@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "rom/regression/campaign_regression.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -38,7 +39,8 @@ struct CampaignFields {
     std::optional<store::SnapshotFile> source;  // the shared mesh and the scene's params
     std::vector<std::string> inputs, qois;
     Eigen::MatrixXd X, F, Q;
-    Eigen::MatrixXd U;        // 3 cells x runs: the velocities, when every run kept one
+    Eigen::MatrixXd U;        // 3 cells x runs: the velocities (NaN columns for runs that kept none)
+    std::vector<bool> hasU;   // which runs kept one
     Eigen::VectorXd wU;       // their weights: each cell's volume for each component
     std::vector<double> rho;  // mixer: each run's bulk density
     bool mixer = false;
@@ -91,13 +93,15 @@ struct CampaignFields {
             c.rpm.push_back(value("rpm"));
         }
         if (c.mixer) c.zones = c.source->mrfZones();
-        bool everyU = true;
-        for (const auto& f : finals.runs) everyU = everyU && f.U.size() == 3 * c.mesh.cells && f.U.allFinite();
-        if (everyU) {
-            c.U.resize(3 * c.mesh.cells, n);
-            for (Eigen::Index i = 0; i < n; ++i) c.U.col(i) = finals.runs[static_cast<size_t>(i)].U;
-            c.wU = c.mesh.V.replicate(1, 3).transpose().reshaped();
+        // Runs kept before velocities were (or whose directories were gone by then) have none: the
+        // velocity is regressed on the runs that have one.
+        c.U = Eigen::MatrixXd::Constant(3 * c.mesh.cells, n, std::nan(""));
+        for (Eigen::Index i = 0; i < n; ++i) {
+            const auto& u = finals.runs[static_cast<size_t>(i)].U;
+            c.hasU.push_back(u.size() == 3 * c.mesh.cells && u.allFinite());
+            if (c.hasU.back()) c.U.col(i) = u;
         }
+        c.wU = c.mesh.V.replicate(1, 3).transpose().reshaped();
         return c;
     }
 
@@ -121,6 +125,21 @@ struct CampaignFields {
         return rho * clampFraction(s.alpha).dot(mesh.V);
     }
 
+    long withVelocity() const { return std::count(hasU.begin(), hasU.end(), true); }
+
+    // The inputs and velocities of the runs that kept one, without run `except`.
+    std::pair<Eigen::MatrixXd, Eigen::MatrixXd> velocityTraining(Eigen::Index except = -1) const {
+        std::vector<Eigen::Index> keep;
+        for (Eigen::Index i = 0; i < X.rows(); ++i)
+            if (hasU[static_cast<size_t>(i)] && i != except) keep.push_back(i);
+        Eigen::MatrixXd x(static_cast<Eigen::Index>(keep.size()), X.cols()), u(U.rows(), static_cast<Eigen::Index>(keep.size()));
+        for (size_t k = 0; k < keep.size(); ++k) {
+            x.row(static_cast<Eigen::Index>(k)) = X.row(keep[k]);
+            u.col(static_cast<Eigen::Index>(k)) = U.col(keep[k]);
+        }
+        return {x, u};
+    }
+
     // What a field says of a run: the instantaneous loading (at bulk density rho) or the
     // deposit's runout and height.
     std::vector<double> quantities(const Eigen::VectorXd& alpha, double bulkDensity) const {
@@ -133,14 +152,18 @@ struct CampaignFields {
 namespace {
 // The training runs of one check: inputs, fields and quantities.
 struct Training {
-    Eigen::MatrixXd X, F, U, Q;
+    Eigen::MatrixXd X, F, Q;
+    Eigen::MatrixXd XU, U;  // the runs with a velocity: inputs and velocities
 };
+
+// A velocity regression needs as many runs as a field regression.
+constexpr Eigen::Index kMinVelocityRuns = 2;  // as the alpha regression of a three-run leave-one-out
 
 // Running means and maxima over the checked runs.
 struct Tally {
     std::vector<double> reg, krig, field, regMax, krigMax;
     double alpha = 0, u = 0, seconds = 0;
-    int runs = 0;
+    int runs = 0, uRuns = 0;
     // The reduced steady model on the predicted and on the run's own velocity.
     double steady = 0, steadyMax = 0, steadyOwn = 0, steadySeconds = 0;
     int steadyRuns = 0;
@@ -158,7 +181,7 @@ struct Fitted {
 
     Fitted(const CampaignFields& c, const Training& t, const RegressionCheckOptions& o)
         : alpha(PodRegression::fit(t.X, t.F, c.mesh.V, o.modes, o.energy)), box(surrogates::UnitBox::of(t.X)) {
-        if (t.U.size() > 0) U = PodRegression::fit(t.X, t.U, c.wU, o.modes, o.energy);
+        if (t.U.cols() >= kMinVelocityRuns) U = PodRegression::fit(t.XU, t.U, c.wU, o.modes, o.energy);
         const Eigen::MatrixXd Xs = box.rows(t.X);
         for (Eigen::Index k = 0; k < t.Q.cols(); ++k) kriging.push_back(surrogates::Kriging::fit(Xs, t.Q.col(k), surrogates::KrigingOptions{}));
     }
@@ -190,6 +213,7 @@ nlohmann::json checkRun(const CampaignFields& c, const Fitted& fit, const Eigen:
         const double e = std::sqrt((u - uRun).cwiseAbs2().dot(c.wU) / uRun.cwiseAbs2().dot(c.wU));
         row["u_error"] = e;
         tally.u += e;
+        ++tally.uRuns;
         if (steady.valid) {
             const auto t1 = Clock::now();
             const double m = c.steadyLoading(u, rho, steady.feedKgH, steady.rpm);
@@ -226,7 +250,7 @@ nlohmann::json checkRun(const CampaignFields& c, const Fitted& fit, const Eigen:
     return row;
 }
 
-nlohmann::json summarise(const CampaignFields& c, const Tally& t, bool withU) {
+nlohmann::json summarise(const CampaignFields& c, const Tally& t) {
     const double n = t.runs;
     nlohmann::json summary = nlohmann::json::object();
     for (size_t k = 0; k < c.qois.size(); ++k)
@@ -244,8 +268,11 @@ nlohmann::json summarise(const CampaignFields& c, const Tally& t, bool withU) {
             {"inputs", c.inputs},
             {"cells", c.mesh.cells},
             {"alpha_error_mean", t.alpha / n},
-            {"u_error_mean", withU ? nlohmann::json(t.u / n) : nlohmann::json()},
-            {"velocity", withU ? "every run" : "not kept by every run (alpha only)"},
+            {"u_error_mean", t.uRuns > 0 ? nlohmann::json(t.u / t.uRuns) : nlohmann::json()},
+            {"u_error_runs", t.uRuns},
+            {"velocity", t.uRuns == 0 ? "fewer than " + std::to_string(kMinVelocityRuns) + " training runs kept one (alpha only)"
+                         : t.uRuns == t.runs ? std::string("every run")
+                                             : std::to_string(t.uRuns) + " of " + std::to_string(t.runs) + " runs (the others kept none)"},
             {"predict_seconds", t.seconds / n},
             {"summary", summary}};
 }
@@ -256,18 +283,18 @@ nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string
     const auto n = c.X.rows();
     Tally tally(c.qois.size());
     nlohmann::json rows = nlohmann::json::array();
-    const bool withU = c.U.size() > 0;
     for (Eigen::Index i = 0; i < n; ++i) {
-        Training t{without(c.X, i), without(c.F.transpose(), i).transpose(),
-                   withU ? Eigen::MatrixXd(without(c.U.transpose(), i).transpose()) : Eigen::MatrixXd(), without(c.Q, i)};
         const auto r = static_cast<size_t>(i);
+        auto [xu, u] = c.velocityTraining(i);
+        Training t{without(c.X, i), without(c.F.transpose(), i).transpose(), without(c.Q, i), std::move(xu), std::move(u)};
+        const bool withU = c.hasU[r];
         auto row = checkRun(c, Fitted(c, t, o), c.X.row(i).transpose(), c.F.col(i),
                             withU ? Eigen::VectorXd(c.U.col(i)) : Eigen::VectorXd(), c.Q.row(i), c.rho[r],
                             {withU && !c.zones.empty(), c.feedKgH[r], c.rpm[r]}, tally);
         row["run"] = c.runs[static_cast<size_t>(i)].index;
         rows.push_back(row);
     }
-    auto out = summarise(c, tally, withU);
+    auto out = summarise(c, tally);
     out["campaign"] = campaign;
     out["runs"] = n;
     out["rows"] = rows;
@@ -281,8 +308,8 @@ nlohmann::json campaignRegressionHoldout(const fs::path& ledger, const std::stri
     if (h.source->meshFingerprint() != c.source->meshFingerprint())
         throw InputError("holdout", holdout, "a campaign on the training campaign's mesh (" + campaign + ")");
     if (h.scene != c.scene) throw InputError("holdout", holdout, "a campaign of the training campaign's scene (" + c.scene + ")");
-    const bool withU = c.U.size() > 0 && h.U.size() > 0;
-    const Fitted fit(c, Training{c.X, c.F, withU ? c.U : Eigen::MatrixXd(), c.Q}, o);
+    auto [xu, u] = c.velocityTraining();
+    const Fitted fit(c, Training{c.X, c.F, c.Q, std::move(xu), std::move(u)}, o);
     Tally tally(c.qois.size());
     nlohmann::json rows = nlohmann::json::array(), outside = nlohmann::json::array();
     for (size_t j = 0; j < h.runs.size(); ++j) {
@@ -299,12 +326,13 @@ nlohmann::json campaignRegressionHoldout(const fs::path& ledger, const std::stri
         }
         if (!inside) outside.push_back(h.runs[j].index);
         const auto i = static_cast<Eigen::Index>(j);
+        const bool withU = h.hasU[j];
         auto row = checkRun(c, fit, x, h.F.col(i), withU ? Eigen::VectorXd(h.U.col(i)) : Eigen::VectorXd(), h.Q.row(i),
                             h.rho[j], {withU && !c.zones.empty(), h.feedKgH[j], h.rpm[j]}, tally);
         row["run"] = h.runs[j].index;
         rows.push_back(row);
     }
-    auto out = summarise(c, tally, withU);
+    auto out = summarise(c, tally);
     out["campaign"] = campaign;
     out["holdout"] = holdout;
     out["runs"] = c.X.rows();
@@ -347,7 +375,8 @@ nlohmann::json campaignRegressionPredict(const fs::path& ledger, const std::stri
     for (size_t k = 0; k < c.qois.size(); ++k) out[c.qois[k]] = q[k];
     if (!fieldsFile.empty()) {
         std::vector<std::pair<std::string, Eigen::MatrixXd>> fields{{"alpha", alpha}};
-        if (c.U.size() > 0) fields.emplace_back("U", PodRegression::fit(c.X, c.U, c.wU, o.modes, o.energy).predict(x));
+        const auto [xu, u] = c.velocityTraining();
+        if (u.cols() >= kMinVelocityRuns) fields.emplace_back("U", PodRegression::fit(xu, u, c.wU, o.modes, o.energy).predict(x));
         store::writeDerivedSnapshots(*c.source, {0.0}, fields,
                                      {{"written_by", "mixload rom regression (POD regression of campaign " + campaign + ")"},
                                       {"at", out["at"].dump()},
@@ -356,7 +385,7 @@ nlohmann::json campaignRegressionPredict(const fs::path& ledger, const std::stri
                                       {"openfoam_version", "none (reduced model)"}},
                                      fieldsFile);
         out["fields"] = fs::absolute(fieldsFile).string();
-        out["fields_written"] = c.U.size() > 0 ? "alpha, U" : "alpha";
+        out["fields_written"] = fields.size() > 1 ? "alpha, U" : "alpha";
     }
     return out;
 }

@@ -212,6 +212,23 @@ TEST(RomRegression, LeavesEachCampaignRunOutAndPredictsIt) {
     EXPECT_EQ(nlohmann::json::parse(r.out)["added"], 0);
     fs::rename(dir / "reg" / "runs-gone", dir / "reg" / "runs");
 
+    // A run that kept no velocity (exported before velocities were kept) leaves U to the others:
+    // the velocity is regressed and checked on the four runs that have one.
+    fs::path first;
+    for (const auto& e : fs::directory_iterator(dir / "reg" / "runs"))
+        if (e.is_directory() && (first.empty() || e.path() < first)) first = e.path();
+    ASSERT_FALSE(first.empty());
+    r = runMixload({"snapshots", "export", first.string(), "--fields", "alpha"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    fs::remove(kept);
+    r = runMixload({"rom", "regression", "--campaign", "reg", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto partial = nlohmann::json::parse(r.out);
+    EXPECT_EQ(partial["u_error_runs"], 4);
+    EXPECT_EQ(partial["velocity"], "4 of 5 runs (the others kept none)");
+    EXPECT_TRUE(std::isfinite(partial["u_error_mean"].get<double>()));
+    EXPECT_DOUBLE_EQ(partial["alpha_error_mean"].get<double>(), j["alpha_error_mean"].get<double>());
+
     // A campaign without snapshots is refused, naming what it needs.
     r = runMixload({"campaign", "create", "bare", "--ranges", (dir / "reg.toml").string(), "--n", "3", "--mesh", "6", "--dir",
                     dir.string()});
