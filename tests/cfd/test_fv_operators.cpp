@@ -154,7 +154,7 @@ TEST(SteadyTransport, ConservesPowderAndRebuildsTheSolversFlux) {
     EXPECT_TRUE(j["from_u"].get<bool>());
     ASSERT_FALSE(j["times"].empty());
     EXPECT_GT(j["times"].back()["steady_from_phi_kg"].get<double>(), 0);
-    // A collapse is refused with the field named.
+    // A file that is not there is refused with a clear error.
     r = runMixload({"rom", "steady", (run / "missing.h5").string()});
     EXPECT_EQ(r.rc, 2);
 }
