@@ -125,12 +125,17 @@ FinalFields campaignFinalFields(const fs::path& ledger, const std::string& campa
     const Kept kept = readKept(ledger);
     FinalFields out;
     std::string fingerprint;
+    bool sourceHasZones = false;
     const auto sameMesh = [&](const SnapshotFile& f) {
-        if (fingerprint.empty()) fingerprint = f.meshFingerprint(), out.meshSource = f.path();
-        else if (f.meshFingerprint() != fingerprint)
+        if (fingerprint.empty()) {
+            fingerprint = f.meshFingerprint(), out.meshSource = f.path();
+            sourceHasZones = !f.mrfZones().empty();
+        } else if (f.meshFingerprint() != fingerprint) {
             throw InputError("campaign", campaign, "runs on one mesh (" + f.path().string() + " differs)");
-        // Files written since the MRF zones are kept carry them: the reduced steady model needs them.
-        else if (!f.mrfZones().empty() && SnapshotFile(out.meshSource).mrfZones().empty()) out.meshSource = f.path();
+        } else if (!sourceHasZones && !f.mrfZones().empty()) {
+            // Files written since the MRF zones are kept carry them: the reduced steady model needs them.
+            out.meshSource = f.path(), sourceHasZones = true;
+        }
     };
     for (const auto& r : runs) {
         if (hasSnapshots(r)) {

@@ -1,11 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "rom/operators/alpha_transport.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "common/input_error.hpp"
 #include "rom/operators/fv_operators.hpp"
 
 namespace mixload::rom {
@@ -13,9 +11,8 @@ namespace mixload::rom {
 Eigen::VectorXd patchValues(const FvMesh& m, const std::map<std::string, double>& byPatch) {
     Eigen::VectorXd v = Eigen::VectorXd::Zero(m.boundaryFaces);
     for (const auto& [name, value] : byPatch) {
-        const auto p = std::find_if(m.patches.begin(), m.patches.end(), [&](const FvMesh::Patch& q) { return q.name == name; });
-        if (p == m.patches.end()) throw InputError("patch", name, "a patch of the mesh");
-        v.segment(p->start - m.internalFaces, p->size).setConstant(value);
+        const auto& p = m.patch(name);
+        v.segment(p.start - m.internalFaces, p.size).setConstant(value);
     }
     return v;
 }

@@ -69,4 +69,10 @@ FvMesh FvMesh::fromCase(const store::CaseFile& f) {
     return m;
 }
 
+const FvMesh::Patch& FvMesh::patch(const std::string& name) const {
+    for (const auto& p : patches)
+        if (p.name == name) return p;
+    throw InputError("patch", name, "a patch of the mesh");
+}
+
 }  // namespace mixload::rom

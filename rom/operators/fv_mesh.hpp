@@ -36,6 +36,8 @@ struct FvMesh {
     std::vector<Patch> patches;             // non-empty patches
 
     Eigen::Index faces() const { return internalFaces + boundaryFaces; }
+    // The non-empty patch of that name (InputError naming it when there is none).
+    const Patch& patch(const std::string& name) const;
     static FvMesh fromCase(const store::CaseFile& f);
 };
 

@@ -10,12 +10,6 @@ namespace mixload::rom {
 
 namespace {
 using Triplets = std::vector<Eigen::Triplet<double>>;
-
-const FvMesh::Patch& patchNamed(const FvMesh& m, const std::string& name) {
-    for (const auto& p : m.patches)
-        if (p.name == name) return p;
-    throw InputError("patch", name, "a patch of the mesh");
-}
 }  // namespace
 
 SteadyPowder steadyPowder(const FvMesh& m, const Eigen::VectorXd& flux, const std::map<std::string, double>& inflowFraction) {
@@ -92,7 +86,7 @@ Eigen::VectorXd fluxFromVelocity(const FvMesh& m, const Vectors& U, const Vector
 
     // div(flux - k grad_f phi) = 0 with phi = 0 on the open patch: L phi = -div(flux), where L is
     // the orthogonal Laplacian's negative (k = |Sf| deltaCoeff on each face).
-    const auto& open = patchNamed(m, openPatch);
+    const auto& open = m.patch(openPatch);
     Triplets t;
     Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
     for (Eigen::Index f = 0; f < m.internalFaces; ++f) {

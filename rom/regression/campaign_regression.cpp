@@ -79,13 +79,13 @@ struct CampaignFields {
         c.X.resize(n, d);
         c.F.resize(c.mesh.cells, n);
         c.Q.resize(n, static_cast<Eigen::Index>(c.qois.size()));
+        const auto scene = c.source->params();  // what a run's own inputs leave at the scene's value
         for (Eigen::Index i = 0; i < n; ++i) {
             const auto& f = finals.runs[static_cast<size_t>(i)];
             for (Eigen::Index k = 0; k < d; ++k) c.X(i, k) = f.run.params.at(c.inputs[static_cast<size_t>(k)]).get<double>();
             c.F.col(i) = f.alpha;
             for (size_t q = 0; q < c.qois.size(); ++q) c.Q(i, static_cast<Eigen::Index>(q)) = f.run.result.at(c.qois[q]).get<double>();
             c.rho.push_back(c.mixer ? f.bulkDensity : 0.0);
-            const auto scene = c.source->params();
             const auto value = [&](const char* k) {
                 return f.run.params.contains(k) ? f.run.params[k].get<double>() : scene.value(k, 0.0);
             };
@@ -125,8 +125,6 @@ struct CampaignFields {
         return rho * clampFraction(s.alpha).dot(mesh.V);
     }
 
-    long withVelocity() const { return std::count(hasU.begin(), hasU.end(), true); }
-
     // The inputs and velocities of the runs that kept one, without run `except`.
     std::pair<Eigen::MatrixXd, Eigen::MatrixXd> velocityTraining(Eigen::Index except = -1) const {
         std::vector<Eigen::Index> keep;
@@ -156,8 +154,9 @@ struct Training {
     Eigen::MatrixXd XU, U;  // the runs with a velocity: inputs and velocities
 };
 
-// A velocity regression needs as many runs as a field regression.
-constexpr Eigen::Index kMinVelocityRuns = 2;  // as the alpha regression of a three-run leave-one-out
+// A velocity regression needs as many training runs as the alpha regression of a three-run
+// leave-one-out.
+constexpr Eigen::Index kMinVelocityRuns = 2;
 
 // Running means and maxima over the checked runs.
 struct Tally {
@@ -187,13 +186,14 @@ struct Fitted {
     }
 };
 
-// One run predicted from the training runs by POD regression (its field, and the quantities read
-// from it) and by kriging of the quantities, against the run's own field and recorded quantities.
+// Where the reduced steady model runs: the point's feed and speed (valid: the mixer's zones are known).
 struct SteadyPoint {
     bool valid = false;
     double feedKgH = 0, rpm = 0;
 };
 
+// One run predicted from the training runs by POD regression (its field, and the quantities read
+// from it) and by kriging of the quantities, against the run's own field and recorded quantities.
 nlohmann::json checkRun(const CampaignFields& c, const Fitted& fit, const Eigen::VectorXd& x, const Eigen::VectorXd& alphaRun,
                         const Eigen::VectorXd& uRun, const Eigen::RowVectorXd& qRun, double rho, const SteadyPoint& steady,
                         Tally& tally) {

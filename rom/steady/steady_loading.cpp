@@ -31,7 +31,7 @@ nlohmann::json steadyLoadingCheck(const store::SnapshotFile& f, const SteadyChec
                          "phi (snapshots export --fields alpha,U,phi) or U with the MRF zones (files written since they are kept)");
     const FvMesh m = FvMesh::fromCase(f);
     const std::map<std::string, double> inlet{{"inlet", 1.0}};
-    const auto mass = [&](const Eigen::VectorXd& a) { return rho * a.cwiseMax(0.0).cwiseMin(1.0).dot(m.V); };
+    const auto mass = [&](const Eigen::VectorXd& a) { return rho * clampFraction(a).dot(m.V); };
 
     nlohmann::json rows = nlohmann::json::array();
     const auto& times = f.times();
