@@ -55,13 +55,18 @@ Frozen CollapseFlow::freeze(const Eigen::VectorXd& alphaIn) const {
     if (r_.hyper) {
         const auto& pts = r_.hyper->points;
         z.alphaAtPoints.resize(static_cast<Eigen::Index>(pts.size()));
-        z.pAtPoints.resize(z.alphaAtPoints.size());
-        for (size_t i = 0; i < pts.size(); ++i) {
-            z.alphaAtPoints[static_cast<Eigen::Index>(i)] = z.alpha[pts[i]];
-            z.pAtPoints[static_cast<Eigen::Index>(i)] = z.p[pts[i]];
-        }
+        for (size_t i = 0; i < pts.size(); ++i) z.alphaAtPoints[static_cast<Eigen::Index>(i)] = z.alpha[pts[i]];
     }
+    setPressure(z, std::move(z.p));
     return z;
+}
+
+void CollapseFlow::setPressure(Frozen& z, Eigen::VectorXd p) const {
+    z.p = std::move(p);
+    if (!r_.hyper) return;
+    const auto& pts = r_.hyper->points;
+    z.pAtPoints.resize(static_cast<Eigen::Index>(pts.size()));
+    for (size_t i = 0; i < pts.size(); ++i) z.pAtPoints[static_cast<Eigen::Index>(i)] = z.p[pts[i]];
 }
 
 Eigen::VectorXd CollapseFlow::recoverPressure(const Frozen& z, const Eigen::VectorXd& a) const {
@@ -102,6 +107,18 @@ Vectors CollapseFlow::boundaryVelocity(const Vectors& U) const {
 
 Eigen::VectorXd CollapseFlow::rate(const Frozen& z, const Eigen::VectorXd& a) const {
     return z.massLlt.solve(projectedForce(z, a) + z.gravityTerm);
+}
+
+Eigen::MatrixXd CollapseFlow::rateJacobian(const Frozen& z, const Eigen::VectorXd& a) const {
+    if (!hasJacobian()) throw std::logic_error("reduced collapse: a Jacobian needs both terms hyper-reduced");
+    const ViscousHyper& h = *r_.hyper;
+    const Eigen::VectorXd sr = h.strainRate(a);
+    const Eigen::VectorXd mu = mixtureViscosity(z.alphaAtPoints, r_.law.nu(sr, z.pAtPoints));
+    // The mixture viscosity's powder part alpha rho nu(gammaDot) is all that moves with a.
+    const Eigen::VectorXd dMuDsr =
+        (z.alphaAtPoints.array() * r_.law.rho * r_.law.dNuDStrainRate(sr, z.pAtPoints).array()).matrix();
+    const Eigen::MatrixXd dMuDa = dMuDsr.asDiagonal() * h.strainRateJacobian(a, sr);
+    return z.massLlt.solve(r_.convectionHyper->jacobian(z.rhoC, a) + h.jacobian(mu, dMuDa, a));
 }
 
 Eigen::VectorXd CollapseFlow::projectedForce(const Frozen& z, const Eigen::VectorXd& a) const {

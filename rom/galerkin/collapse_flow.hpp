@@ -29,6 +29,8 @@ class CollapseFlow {
     explicit CollapseFlow(const CollapseGalerkin& r);
 
     Frozen freeze(const Eigen::VectorXd& alphaIn) const;
+    // Replaces the frozen (lithostatic) pressure, at the hyper-reduction's points too.
+    void setPressure(Frozen& z, Eigen::VectorXd p) const;
 
     // The total pressure the reduced flow implies: per face, the momentum the projection left
     // unbalanced, rho_f V_f dv_f/dt - V_f F_f - gravity_f, is the pressure's -|Sf| (p_N - p_O);
@@ -41,6 +43,10 @@ class CollapseFlow {
 
     // M da/dt = the projected convection, viscous and gravity terms.
     Eigen::VectorXd rate(const Frozen& z, const Eigen::VectorXd& a) const;
+    // d rate / d a, for a model with both terms hyper-reduced (hasJacobian); else the integrator
+    // takes difference quotients of rate.
+    bool hasJacobian() const { return r_.hyper && r_.convectionHyper; }
+    Eigen::MatrixXd rateJacobian(const Frozen& z, const Eigen::VectorXd& a) const;
     // Psi^T faceForce, with the viscous term hyper-reduced when the model has its DEIM.
     Eigen::VectorXd projectedForce(const Frozen& z, const Eigen::VectorXd& a) const;
 

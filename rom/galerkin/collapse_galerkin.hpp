@@ -114,9 +114,6 @@ struct CollapseTrajectory {
     std::vector<double> times;
     std::vector<Eigen::VectorXd> alpha, flow;  // per output time: alpha on the mesh, flow coefficients
     std::vector<Eigen::VectorXd> pressure;     // per output time: the pressure the mu(I) law read
-    // Hyper-reduced model, per output time: the relative error of its projected convection and
-    // viscous terms against the same on the whole mesh, for the model's own state.
-    std::vector<double> hyperTermError;
     std::vector<double> kineticEnergy, powderVolume;
     long steps = 0, odeSteps = 0, rhsEvaluations = 0, jacobianEvaluations = 0;
     double clippedVolume = 0;                  // alpha clipped back into [0, 1] (kept-alpha model)

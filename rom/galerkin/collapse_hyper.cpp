@@ -23,6 +23,32 @@ Eigen::VectorXd ViscousHyper::strainRate(const Eigen::VectorXd& a) const {
     return out;
 }
 
+Eigen::MatrixXd ViscousHyper::strainRateJacobian(const Eigen::VectorXd& a, const Eigen::VectorXd& sr) const {
+    // gammaDot = sqrt(2 S:S) with S = sym(G), G linear in a: d gammaDot = 2 S:dG / gammaDot.
+    const Eigen::VectorXd g = gradAtPoints * a;
+    Eigen::MatrixXd out = Eigen::MatrixXd::Zero(size(), a.size());
+    for (Eigen::Index p = 0; p < out.rows(); ++p) {
+        if (!(sr[p] > 0)) continue;
+        const Eigen::Matrix3d G = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(g.data() + 9 * p);
+        const Eigen::Matrix3d S = 0.5 * (G + G.transpose());
+        const Eigen::Matrix<double, 9, 1> w = Eigen::Map<const Eigen::Matrix<double, 9, 1>>(Eigen::Matrix<double, 3, 3, Eigen::RowMajor>(S).data());
+        out.row(p) = (2.0 / sr[p]) * (w.transpose() * gradAtPoints.middleRows(9 * p, 9));
+    }
+    return out;
+}
+
+Eigen::MatrixXd ViscousHyper::jacobian(const Eigen::VectorXd& muAtPoints, const Eigen::MatrixXd& dMuDa, const Eigen::VectorXd& a) const {
+    // F = sum_q c_q B_q a with c = toCoefficients mu: dF/da = sum_q c_q B_q + sum_q (B_q a) (dc_q/da)^T.
+    const Eigen::Index k = a.size(), P = viscous.cols();
+    const Eigen::VectorXd c = toCoefficients * muAtPoints;
+    const Eigen::VectorXd sum = viscous * c;
+    Eigen::MatrixXd J = Eigen::Map<const Eigen::MatrixXd>(sum.data(), k, k);
+    Eigen::MatrixXd Ba(k, P);
+    for (Eigen::Index q = 0; q < P; ++q) Ba.col(q) = Eigen::Map<const Eigen::MatrixXd>(viscous.col(q).data(), k, k) * a;
+    J.noalias() += Ba * (toCoefficients * dMuDa);
+    return J;
+}
+
 Eigen::VectorXd ViscousHyper::projected(const Eigen::VectorXd& muAtPoints, const Eigen::VectorXd& a) const {
     const Eigen::Index k = a.size();
     const Eigen::VectorXd v = viscous * (toCoefficients * muAtPoints);
@@ -151,6 +177,19 @@ Eigen::VectorXd ConvectionHyper::projected(const Eigen::VectorXd& rho, const Eig
         conv.segment<3>(3 * e) = -rho[cells[static_cast<size_t>(e)]] * c;
     }
     return project * conv;
+}
+
+Eigen::MatrixXd ConvectionHyper::jacobian(const Eigen::VectorXd& rho, const Eigen::VectorXd& a) const {
+    // conv_e = -rho_e sum_f q_f u_f with q and u linear in a: d conv_e = -rho_e sum_f (u_f dq_f + q_f du_f).
+    const Eigen::VectorXd q = faceFlux * a, u = faceVelocity * a;
+    Eigen::MatrixXd dconv(3 * size(), a.size());
+    for (Eigen::Index e = 0; e < size(); ++e) {
+        Eigen::MatrixXd d = Eigen::MatrixXd::Zero(3, a.size());
+        for (Eigen::Index f = faceStart[static_cast<size_t>(e)]; f < faceStart[static_cast<size_t>(e) + 1]; ++f)
+            d += u.segment<3>(3 * f) * faceFlux.row(f) + q[f] * faceVelocity.middleRows(3 * f, 3);
+        dconv.middleRows(3 * e, 3) = -rho[cells[static_cast<size_t>(e)]] * d;
+    }
+    return project * dconv;
 }
 
 ConvectionHyper buildConvectionHyper(const CollapseFlow& flow, const HyperTraining& tr, int points, double tolerance) {

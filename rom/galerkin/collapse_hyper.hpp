@@ -43,8 +43,12 @@ struct ViscousHyper {
     int size() const { return static_cast<int>(points.size()); }
     // sqrt(2) |sym grad U| at the points for flow coefficients a (the mesh's strainRate there).
     Eigen::VectorXd strainRate(const Eigen::VectorXd& a) const;
+    // d strainRate / d a at the points (P x K).
+    Eigen::MatrixXd strainRateJacobian(const Eigen::VectorXd& a, const Eigen::VectorXd& strainRate) const;
     // The projected viscous term from mu at the points.
     Eigen::VectorXd projected(const Eigen::VectorXd& muAtPoints, const Eigen::VectorXd& a) const;
+    // Its derivative in a, given d mu / d a at the points (P x K).
+    Eigen::MatrixXd jacobian(const Eigen::VectorXd& muAtPoints, const Eigen::MatrixXd& dMuDa, const Eigen::VectorXd& a) const;
 };
 
 struct ConvectionHyper {
@@ -58,6 +62,8 @@ struct ConvectionHyper {
     int size() const { return static_cast<int>(cells.size()); }
     // The projected convection for the cell densities rho (on the whole mesh; read at the kept cells).
     Eigen::VectorXd projected(const Eigen::VectorXd& rho, const Eigen::VectorXd& a) const;
+    // Its derivative in a (K x K): the convection is quadratic in a.
+    Eigen::MatrixXd jacobian(const Eigen::VectorXd& rho, const Eigen::VectorXd& a) const;
 };
 
 struct HyperTraining {

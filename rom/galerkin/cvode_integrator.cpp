@@ -20,6 +20,8 @@ struct CvodeIntegrator::State {
     SUNLinearSolver ls = nullptr;
     void* mem = nullptr;
     Rhs rhs;
+    Jacobian jacobian;
+    Eigen::MatrixXd jacOut;
     Eigen::Index n = 0;
     bool started = false;
     // CVodeReInit resets CVODE's counters: the totals of earlier restarts, and the current one's.
@@ -34,6 +36,21 @@ struct CvodeIntegrator::State {
             s->rhs(t, s->yIn, s->dyOut);
             if (!s->dyOut.allFinite()) return 1;  // recoverable: CVODE retries with a smaller step
             Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(dy), s->n) = s->dyOut;
+            return 0;
+        } catch (...) {
+            s->error = std::current_exception();
+            return -1;
+        }
+    }
+
+    static int jac(sunrealtype t, N_Vector y, N_Vector, SUNMatrix J, void* user, N_Vector, N_Vector, N_Vector) {
+        auto* s = static_cast<State*>(user);
+        try {
+            s->yIn = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(y), s->n);
+            s->jacobian(t, s->yIn, s->jacOut);
+            if (!s->jacOut.allFinite()) return 1;
+            // SUNDIALS' dense matrix is column-major with leading dimension n, as Eigen's default.
+            Eigen::Map<Eigen::MatrixXd>(SUNDenseMatrix_Data(J), s->n, s->n) = s->jacOut;
             return 0;
         } catch (...) {
             s->error = std::current_exception();
@@ -69,6 +86,12 @@ CvodeIntegrator::CvodeIntegrator(Eigen::Index n, Rhs rhs, double rtol, const Eig
     s_->A = SUNDenseMatrix(n, n, s_->ctx);
     s_->ls = SUNLinSol_Dense(s_->y, s_->A, s_->ctx);
     check(CVodeSetLinearSolver(s_->mem, s_->ls, s_->A), "CVodeSetLinearSolver");
+}
+
+void CvodeIntegrator::setJacobian(Jacobian jacobian) {
+    s_->jacobian = std::move(jacobian);
+    s_->jacOut.resize(s_->n, s_->n);
+    check(CVodeSetJacFn(s_->mem, s_->jacobian ? &State::jac : nullptr), "CVodeSetJacFn");
 }
 
 CvodeIntegrator::~CvodeIntegrator() {

@@ -16,10 +16,13 @@ namespace mixload::rom {
 class CvodeIntegrator {
   public:
     using Rhs = std::function<void(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dydt)>;
+    using Jacobian = std::function<void(double t, const Eigen::VectorXd& y, Eigen::MatrixXd& dfdy)>;
 
     // rtol: relative tolerance; atol: absolute tolerance per component (size n).
     CvodeIntegrator(Eigen::Index n, Rhs rhs, double rtol, const Eigen::VectorXd& atol);
     ~CvodeIntegrator();
+    // The right-hand side's Jacobian, instead of CVODE's difference quotients (n evaluations each).
+    void setJacobian(Jacobian jacobian);
     CvodeIntegrator(const CvodeIntegrator&) = delete;
     CvodeIntegrator& operator=(const CvodeIntegrator&) = delete;
 
@@ -30,7 +33,7 @@ class CvodeIntegrator {
     void advance(double t, double tOut, Eigen::VectorXd& y, bool restart = true);
 
     long steps() const;        // internal steps taken, summed over every advance
-    long rhsEvaluations() const;       // including the difference quotients of the Jacobian
+    long rhsEvaluations() const;       // including the difference quotients of the Jacobian, if any
     long jacobianEvaluations() const;
 
   private:

@@ -39,4 +39,18 @@ Eigen::VectorXd GranularLaw::nu(const Eigen::VectorXd& sr, const Eigen::VectorXd
     return out;
 }
 
+Eigen::VectorXd GranularLaw::dNuDStrainRate(const Eigen::VectorXd& sr, const Eigen::VectorXd& p) const {
+    if (sr.size() != p.size()) throw std::invalid_argument("granular viscosity: shear rate and pressure sizes differ");
+    Eigen::VectorXd out(sr.size());
+    for (Eigen::Index c = 0; c < sr.size(); ++c) {
+        const double pc = std::max(p[c], pMin);
+        const double I = rheology::inertialNumber(d, sr[c], pc, rhoS);
+        const double mu = rheology::muOfI(law, I);
+        // eta = mu(I) p / gammaDot with I proportional to gammaDot: d eta / d gammaDot = p (I mu'(I) - mu) / gammaDot^2.
+        const bool capped = !(sr[c] > 0) || mu * pc / sr[c] >= etaMax;
+        out[c] = capped ? 0.0 : pc * (I * rheology::dMuDI(law, I) - mu) / (sr[c] * sr[c]) / rho;
+    }
+    return out;
+}
+
 }  // namespace mixload::rom

@@ -21,6 +21,9 @@ struct GranularLaw {
     static GranularLaw fromCase(const store::CaseFile& f);
     // nu = min(mu(I) max(p, pMin) / gammaDot, etaMax) / rho, cell by cell.
     Eigen::VectorXd nu(const Eigen::VectorXd& strainRate, const Eigen::VectorXd& p) const;
+    // d nu / d gammaDot at the same shear rates and pressures (0 where the cap holds): what a
+    // reduced model's Jacobian needs.
+    Eigen::VectorXd dNuDStrainRate(const Eigen::VectorXd& strainRate, const Eigen::VectorXd& p) const;
 };
 
 }  // namespace mixload::rom

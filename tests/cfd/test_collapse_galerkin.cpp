@@ -359,6 +359,20 @@ TEST(CollapseGalerkin, HyperReducedViscousTermMatchesTheMeshTerm) {
         const double err = (c.projected(z.rhoC, a) - mesh).norm() / mesh.norm();
         std::cout << "  t = " << f.times()[t] << " s: relative error of the convection " << err << '\n';
         EXPECT_LT(err, 0.03);
+        // The rate's Jacobian that CVODE's Newton iterations take (both terms hyper-reduced) against
+        // central differences of the rate itself.
+        ASSERT_TRUE(flow.hasJacobian());
+        const Eigen::MatrixXd J = flow.rateJacobian(z, a);
+        Eigen::MatrixXd fd(a.size(), a.size());
+        const double h = 1e-6 * a.cwiseAbs().maxCoeff();
+        for (Eigen::Index k = 0; k < a.size(); ++k) {
+            Eigen::VectorXd up = a, down = a;
+            up[k] += h, down[k] -= h;
+            fd.col(k) = (flow.rate(z, up) - flow.rate(z, down)) / (2 * h);
+        }
+        const double jErr = (J - fd).norm() / fd.norm();
+        std::cout << "  the rate's Jacobian against central differences: " << jErr << '\n';
+        EXPECT_LT(jErr, 1e-5);
     }
 }
 
