@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "rom/galerkin/collapse_flow.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "rom/operators/alpha_transport.hpp"
 #include "rom/operators/fv_operators.hpp"
 
@@ -38,7 +41,7 @@ CollapseFlow::CollapseFlow(const CollapseGalerkin& r)
     if (poisson_.info() != Eigen::Success) throw std::runtime_error("pressure recovery: the Laplacian is singular");
 }
 
-Frozen CollapseFlow::freeze(const Eigen::VectorXd& alphaIn) const {
+Frozen CollapseFlow::freeze(const Eigen::VectorXd& alphaIn, const Frozen* previous) const {
     Frozen z;
     z.alpha = clampFraction(alphaIn);
     const double rho1 = r_.law.rho, rho2 = r_.airRho;
@@ -46,7 +49,22 @@ Frozen CollapseFlow::freeze(const Eigen::VectorXd& alphaIn) const {
     z.rhoF = interpolate(m_, z.rhoC, ownerValues(m_, z.rhoC));
     z.p = pressure_(z.rhoC);
     const Eigen::MatrixXd& Psi = r_.flow.modes;
-    z.mass = Psi.transpose() * (Vf_.cwiseProduct(z.rhoF).asDiagonal() * Psi);
+    if (previous && previous->massRhoF.size() == z.rhoF.size()) {
+        // Rank-one updates on the faces whose density moved by more than round-off since the matrix
+        // was assembled; the rest keep their assembled density, so no error accumulates.
+        z.mass = previous->mass;
+        z.massRhoF = previous->massRhoF;
+        const double tiny = 1e-12 * std::max(rho1, rho2);
+        for (Eigen::Index f = 0; f < m_.faces(); ++f) {
+            const double d = z.rhoF[f] - z.massRhoF[f];
+            if (std::abs(d) <= tiny) continue;
+            z.mass.noalias() += (Vf_[f] * d) * Psi.row(f).transpose() * Psi.row(f);
+            z.massRhoF[f] = z.rhoF[f];
+        }
+    } else {
+        z.mass = Psi.transpose() * (Vf_.cwiseProduct(z.rhoF).asDiagonal() * Psi);
+        z.massRhoF = z.rhoF;
+    }
     z.massLlt.compute(z.mass);
     z.gravityFaces = Eigen::VectorXd::Zero(m_.faces());
     for (Eigen::Index i = 0; i < m_.internalFaces; ++i)

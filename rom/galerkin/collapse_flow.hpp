@@ -21,6 +21,7 @@ struct Frozen {
     Eigen::VectorXd alpha, rhoC, rhoF, p, gravityFaces, gravityTerm;
     Eigen::VectorXd alphaAtPoints, pAtPoints;  // at the DEIM points of a hyper-reduced model
     Eigen::MatrixXd mass;
+    Eigen::VectorXd massRhoF;  // the face densities mass was assembled with (within a round-off tolerance of rhoF)
     Eigen::LLT<Eigen::MatrixXd> massLlt;
 };
 
@@ -28,7 +29,9 @@ class CollapseFlow {
   public:
     explicit CollapseFlow(const CollapseGalerkin& r);
 
-    Frozen freeze(const Eigen::VectorXd& alphaIn) const;
+    // With `previous`, the reduced mass matrix is updated on the faces whose density changed since
+    // (the interface's band) instead of assembled over every face: the same matrix to round-off.
+    Frozen freeze(const Eigen::VectorXd& alphaIn, const Frozen* previous = nullptr) const;
     // Replaces the frozen (lithostatic) pressure, at the hyper-reduction's points too.
     void setPressure(Frozen& z, Eigen::VectorXd p) const;
 

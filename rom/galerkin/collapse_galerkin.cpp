@@ -201,7 +201,7 @@ CollapseTrajectory runCollapseGalerkin(const CollapseGalerkin& rom, const Eigen:
                 out.clippedVolume += (alpha - clipped).cwiseAbs().dot(m.V);
                 alpha = clipped;
             }
-            z = model.freeze(alpha);
+            z = model.freeze(alpha, &z);
             if (stored.pressure) model.setPressure(z, stored.pressure(t + dt));
             else if (o.pressure == PressureClosure::recovered) model.setPressure(z, model.recoverPressure(z, a));
             try {

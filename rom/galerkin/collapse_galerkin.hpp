@@ -61,10 +61,13 @@ struct CollapseGalerkinOptions {
     double hyperTolerance = 0.003; // ECSW: stop adding cells once the term's training error is this small (0.01 left the velocity 50% further off)
     bool hyperConvection = false; // hyper-reduce the convection too (ECSW, same points cap and tolerance)
     int trainEvery = 1;           // train on every k-th stored time (the rest are held out)
-    double courant = 0.3;         // of the transport step
+    // The step and tolerance: against the model integrated tightly (Courant 0.1, 0.005 t*, rtol 1e-5)
+    // these move L*f by 0.07-0.2% and H*f by about 0.1% on the benchmark's four held-out runs, a
+    // twentieth of the model's own error, at a third of the cost of (0.3, 0.01 t*, 3e-3).
+    double courant = 0.5;         // of the transport step (the van Leer bound)
     double cAlpha = 1;            // interface compression (the case's cAlpha)
-    double maxStepTstar = 0.01;   // largest step, in t*
-    double rtol = 3e-3;           // CVODE's relative tolerance (1e-2 to 1e-5 move L*f by 0.02%)
+    double maxStepTstar = 0.04;   // largest step, in t*
+    double rtol = 3e-2;           // CVODE's relative tolerance
     bool restartEachStep = false; // restart CVODE after each alpha step (else it carries its history on)
     double massTolerance = 0.01;  // stop when the powder volume drifts by more than this share
     // Diagnosis only (reproduceCollapse): the mu(I) law reads the solver's stored pressure,
