@@ -82,6 +82,12 @@ void Surrogate::scale(const Point& x, double* z) const {
     }
 }
 
+std::vector<double> Surrogate::coordinates(const Point& x) const {
+    double z[kInputs];
+    scale(x, z);
+    return {z, z + dims()};
+}
+
 Surrogate Surrogate::fit(const std::vector<Row>& train, const FitOptions& o, nlohmann::json provenance) {
     if (o.kind != "rsm" && o.kind != "kriging") throw InputError("kind", o.kind, "rsm or kriging");
     const auto n = static_cast<Eigen::Index>(train.size());

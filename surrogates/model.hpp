@@ -86,6 +86,9 @@ public:
 
     Workspace makeWorkspace() const;
     Prediction predict(const Point& x, Workspace& ws) const;  // no heap allocation
+    // The model's own coordinates of x (its inputs, transformed and scaled to the training box):
+    // where another regression on the same runs should see them too.
+    std::vector<double> coordinates(const Point& x) const;
     Difference predictDifference(const Point& a, const Point& b) const;  // allocates
     // Inside the training box of the model's own inputs (with similarity, a density outside the
     // trained range is inside when feed/rho is).

@@ -10,6 +10,7 @@
 #include "common/input_error.hpp"
 #include "kriging/kriging.hpp"
 #include "kriging/unit_box.hpp"
+#include "model.hpp"
 #include "rom/galerkin/collapse_shape.hpp"
 #include "rom/operators/alpha_transport.hpp"
 #include "rom/operators/fv_mesh.hpp"
@@ -32,6 +33,27 @@ Eigen::MatrixXd without(const Eigen::MatrixXd& m, Eigen::Index i) {
     return out;
 }
 
+template <class T>
+std::vector<T> without(const std::vector<T>& v, Eigen::Index i) {
+    std::vector<T> out(v);
+    if (i >= 0 && static_cast<size_t>(i) < out.size()) out.erase(out.begin() + i);
+    return out;
+}
+
+// A mixer run's seven inputs as the surrogates take them: the run's own design values, the rest the
+// scene's (mu_d is mu_s + delta_mu when the design samples the difference).
+surrogates::Point physicalPoint(const nlohmann::json& params, const nlohmann::json& scene, double rho, double feedKgH,
+                                double rpm) {
+    const auto get = [&](const char* key, const char* sceneKey) {
+        return params.contains(key) ? params[key].get<double>() : scene.value(sceneKey, std::nan(""));
+    };
+    const double muS = get("mu_s", "material.mu_s");
+    const double muD = params.contains("mu_d")       ? params["mu_d"].get<double>()
+                       : params.contains("delta_mu") ? muS + params["delta_mu"].get<double>()
+                                                     : scene.value("material.mu_d", std::nan(""));
+    return {muS, muD, get("i0", "material.i0"), get("d", "material.grain_diameter_m"), rho, feedKgH, rpm};
+}
+
 // A campaign's finished runs with snapshots: their varying inputs X, last stored alpha F (cells x
 // runs) and recorded quantities Q, and what reads a quantity from a field.
 struct CampaignFields {
@@ -43,6 +65,7 @@ struct CampaignFields {
     std::vector<bool> hasU;   // which runs kept one
     Eigen::VectorXd wU;       // their weights: each cell's volume for each component
     std::vector<double> rho;  // mixer: each run's bulk density
+    std::vector<surrogates::Point> physical;  // mixer: each run's seven inputs (surrogates' order)
     bool mixer = false;
     std::string scene;
     FvMesh mesh;
@@ -91,6 +114,7 @@ struct CampaignFields {
             };
             c.feedKgH.push_back(value("feed_kg_h"));
             c.rpm.push_back(value("rpm"));
+            if (c.mixer) c.physical.push_back(physicalPoint(f.run.params, scene, f.bulkDensity, c.feedKgH.back(), c.rpm.back()));
         }
         if (c.mixer) c.zones = c.source->mrfZones();
         // Runs kept before velocities were (or whose directories were gone by then) have none: the
@@ -125,17 +149,23 @@ struct CampaignFields {
         return rho * clampFraction(s.alpha).dot(mesh.V);
     }
 
-    // The inputs and velocities of the runs that kept one, without run `except`.
-    std::pair<Eigen::MatrixXd, Eigen::MatrixXd> velocityTraining(Eigen::Index except = -1) const {
+    // The inputs, velocities and physical points of the runs that kept a velocity, without run `except`.
+    struct VelocityRuns {
+        Eigen::MatrixXd X, U;
+        std::vector<surrogates::Point> P;
+    };
+    VelocityRuns velocityTraining(Eigen::Index except = -1) const {
         std::vector<Eigen::Index> keep;
         for (Eigen::Index i = 0; i < X.rows(); ++i)
             if (hasU[static_cast<size_t>(i)] && i != except) keep.push_back(i);
-        Eigen::MatrixXd x(static_cast<Eigen::Index>(keep.size()), X.cols()), u(U.rows(), static_cast<Eigen::Index>(keep.size()));
+        VelocityRuns v{Eigen::MatrixXd(static_cast<Eigen::Index>(keep.size()), X.cols()),
+                       Eigen::MatrixXd(U.rows(), static_cast<Eigen::Index>(keep.size())), {}};
         for (size_t k = 0; k < keep.size(); ++k) {
-            x.row(static_cast<Eigen::Index>(k)) = X.row(keep[k]);
-            u.col(static_cast<Eigen::Index>(k)) = U.col(keep[k]);
+            v.X.row(static_cast<Eigen::Index>(k)) = X.row(keep[k]);
+            v.U.col(static_cast<Eigen::Index>(k)) = U.col(keep[k]);
+            if (mixer) v.P.push_back(physical[static_cast<size_t>(keep[k])]);
         }
-        return {x, u};
+        return v;
     }
 
     // What a field says of a run: the instantaneous loading (at bulk density rho) or the
@@ -151,7 +181,8 @@ namespace {
 // The training runs of one check: inputs, fields and quantities.
 struct Training {
     Eigen::MatrixXd X, F, Q;
-    Eigen::MatrixXd XU, U;  // the runs with a velocity: inputs and velocities
+    std::vector<surrogates::Point> P;  // mixer: their seven inputs
+    CampaignFields::VelocityRuns velocity;
 };
 
 // A velocity regression needs as many training runs as the alpha regression of a three-run
@@ -169,20 +200,61 @@ struct Tally {
     explicit Tally(size_t q) : reg(q), krig(q), field(q), regMax(q), krigMax(q) {}
 };
 
-// The models a check fits on its training runs: the field regressions (U when trained with it) and
-// one kriging model per quantity, in the training box's unit coordinates. Fitted once per training
+// The models a check fits on its training runs. A mixer campaign with five runs or more: the
+// loading model issue 16 ships (`surrogate fit --similarity`: kriging of M/rho in the similarity
+// variables, the transforms chosen by leave-one-out), and the POD regression sees the runs in that
+// model's own coordinates, so that the two regressions compared see the same inputs. Otherwise:
+// plain kriging of each quantity, and both in the design inputs' unit box. Fitted once per training
 // set: the leave-one-out check fits one per run, the hold-out check one for all its runs.
 struct Fitted {
+    std::optional<surrogates::Surrogate> surrogate;
+    surrogates::UnitBox box;
     PodRegression alpha;
     std::optional<PodRegression> U;
-    surrogates::UnitBox box;
     std::vector<surrogates::Kriging> kriging;
 
     Fitted(const CampaignFields& c, const Training& t, const RegressionCheckOptions& o)
-        : alpha(PodRegression::fit(t.X, t.F, c.mesh.V, o.modes, o.energy)), box(surrogates::UnitBox::of(t.X)) {
-        if (t.U.cols() >= kMinVelocityRuns) U = PodRegression::fit(t.XU, t.U, c.wU, o.modes, o.energy);
+        : surrogate(fitSurrogate(c, t)), box(surrogates::UnitBox::of(t.X)), alpha(PodRegression::fit(inputs(t.X, t.P), t.F, c.mesh.V, o.modes, o.energy)) {
+        if (t.velocity.U.cols() >= kMinVelocityRuns)
+            U = PodRegression::fit(inputs(t.velocity.X, t.velocity.P), t.velocity.U, c.wU, o.modes, o.energy);
+        if (surrogate) return;
         const Eigen::MatrixXd Xs = box.rows(t.X);
         for (Eigen::Index k = 0; k < t.Q.cols(); ++k) kriging.push_back(surrogates::Kriging::fit(Xs, t.Q.col(k), surrogates::KrigingOptions{}));
+    }
+
+    static std::optional<surrogates::Surrogate> fitSurrogate(const CampaignFields& c, const Training& t) {
+        if (!c.mixer || t.P.size() < 5) return std::nullopt;
+        std::vector<surrogates::Row> rows;
+        for (size_t i = 0; i < t.P.size(); ++i) rows.push_back({std::to_string(i), t.P[i], t.Q(static_cast<Eigen::Index>(i), 0)});
+        surrogates::FitOptions fo;
+        fo.similarity = true;
+        return surrogates::Surrogate::fit(rows, fo, nlohmann::json::object());
+    }
+    // A run's inputs as the regressions see them.
+    Eigen::VectorXd input(const Eigen::VectorXd& x, const surrogates::Point* p) const {
+        if (!surrogate) return x;
+        const auto z = surrogate->coordinates(*p);
+        return Eigen::Map<const Eigen::VectorXd>(z.data(), static_cast<Eigen::Index>(z.size()));
+    }
+    Eigen::MatrixXd inputs(const Eigen::MatrixXd& X, const std::vector<surrogates::Point>& P) const {
+        if (!surrogate) return X;
+        Eigen::MatrixXd Z(static_cast<Eigen::Index>(P.size()), static_cast<Eigen::Index>(surrogate->inputs().size()));
+        for (size_t i = 0; i < P.size(); ++i) Z.row(static_cast<Eigen::Index>(i)) = input(Eigen::VectorXd(), &P[i]).transpose();
+        return Z;
+    }
+    // Quantity k at a run by the comparison model.
+    double quantity(size_t k, const Eigen::VectorXd& x, const surrogates::Point* p) const {
+        if (surrogate) {
+            auto ws = surrogate->makeWorkspace();
+            return surrogate->predict(*p, ws).m;
+        }
+        const Eigen::VectorXd xs = box(x);
+        auto ws = kriging[k].makeWorkspace();
+        return kriging[k].predictMean(xs.data(), ws);
+    }
+    std::string comparison() const {
+        return surrogate ? "the loading surrogate (surrogate fit --similarity): kriging of " + surrogate->transform().describe()
+                         : "kriging of each quantity on the design inputs";
     }
 };
 
@@ -194,11 +266,12 @@ struct SteadyPoint {
 
 // One run predicted from the training runs by POD regression (its field, and the quantities read
 // from it) and by kriging of the quantities, against the run's own field and recorded quantities.
-nlohmann::json checkRun(const CampaignFields& c, const Fitted& fit, const Eigen::VectorXd& x, const Eigen::VectorXd& alphaRun,
-                        const Eigen::VectorXd& uRun, const Eigen::RowVectorXd& qRun, double rho, const SteadyPoint& steady,
-                        Tally& tally) {
+nlohmann::json checkRun(const CampaignFields& c, const Fitted& fit, const Eigen::VectorXd& x, const surrogates::Point* p,
+                        const Eigen::VectorXd& alphaRun, const Eigen::VectorXd& uRun, const Eigen::RowVectorXd& qRun, double rho,
+                        const SteadyPoint& steady, Tally& tally) {
     const auto t0 = Clock::now();
-    const Eigen::VectorXd alpha = fit.alpha.predict(x);
+    const Eigen::VectorXd in = fit.input(x, p);
+    const Eigen::VectorXd alpha = fit.alpha.predict(in);
     const auto q = c.quantities(alpha, rho);
     tally.seconds += secondsSince(t0);
     const auto qStored = c.quantities(alphaRun, rho);
@@ -209,7 +282,7 @@ nlohmann::json checkRun(const CampaignFields& c, const Fitted& fit, const Eigen:
     for (size_t k = 0; k < c.inputs.size(); ++k) row[c.inputs[k]] = x[static_cast<Eigen::Index>(k)];
     nlohmann::json steadyRow;
     if (fit.U && uRun.size() > 0) {
-        const Eigen::VectorXd u = fit.U->predict(x);
+        const Eigen::VectorXd u = fit.U->predict(in);
         const double e = std::sqrt((u - uRun).cwiseAbs2().dot(c.wU) / uRun.cwiseAbs2().dot(c.wU));
         row["u_error"] = e;
         tally.u += e;
@@ -230,11 +303,10 @@ nlohmann::json checkRun(const CampaignFields& c, const Fitted& fit, const Eigen:
             ++tally.steadyRuns;
         }
     }
-    const Eigen::VectorXd xs = fit.box(x);
+    row["kriging_model"] = fit.comparison();
     for (size_t k = 0; k < c.qois.size(); ++k) {
         const double truth = qRun[static_cast<Eigen::Index>(k)];
-        auto ws = fit.kriging[k].makeWorkspace();
-        const double kq = fit.kriging[k].predictMean(xs.data(), ws);
+        const double kq = fit.quantity(k, x, p);
         row[c.qois[k]] = {{"full", truth},
                           {"from_stored_field", qStored[k]},
                           {"pod_regression", q[k]},
@@ -285,10 +357,10 @@ nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string
     nlohmann::json rows = nlohmann::json::array();
     for (Eigen::Index i = 0; i < n; ++i) {
         const auto r = static_cast<size_t>(i);
-        auto [xu, u] = c.velocityTraining(i);
-        Training t{without(c.X, i), without(c.F.transpose(), i).transpose(), without(c.Q, i), std::move(xu), std::move(u)};
+        Training t{without(c.X, i), without(c.F.transpose(), i).transpose(), without(c.Q, i), without(c.physical, i),
+                   c.velocityTraining(i)};
         const bool withU = c.hasU[r];
-        auto row = checkRun(c, Fitted(c, t, o), c.X.row(i).transpose(), c.F.col(i),
+        auto row = checkRun(c, Fitted(c, t, o), c.X.row(i).transpose(), c.mixer ? &c.physical[r] : nullptr, c.F.col(i),
                             withU ? Eigen::VectorXd(c.U.col(i)) : Eigen::VectorXd(), c.Q.row(i), c.rho[r],
                             {withU && !c.zones.empty(), c.feedKgH[r], c.rpm[r]}, tally);
         row["run"] = c.runs[static_cast<size_t>(i)].index;
@@ -308,8 +380,7 @@ nlohmann::json campaignRegressionHoldout(const fs::path& ledger, const std::stri
     if (h.source->meshFingerprint() != c.source->meshFingerprint())
         throw InputError("holdout", holdout, "a campaign on the training campaign's mesh (" + campaign + ")");
     if (h.scene != c.scene) throw InputError("holdout", holdout, "a campaign of the training campaign's scene (" + c.scene + ")");
-    auto [xu, u] = c.velocityTraining();
-    const Fitted fit(c, Training{c.X, c.F, c.Q, std::move(xu), std::move(u)}, o);
+    const Fitted fit(c, Training{c.X, c.F, c.Q, c.physical, c.velocityTraining()}, o);
     Tally tally(c.qois.size());
     nlohmann::json rows = nlohmann::json::array(), outside = nlohmann::json::array();
     for (size_t j = 0; j < h.runs.size(); ++j) {
@@ -327,7 +398,8 @@ nlohmann::json campaignRegressionHoldout(const fs::path& ledger, const std::stri
         if (!inside) outside.push_back(h.runs[j].index);
         const auto i = static_cast<Eigen::Index>(j);
         const bool withU = h.hasU[j];
-        auto row = checkRun(c, fit, x, h.F.col(i), withU ? Eigen::VectorXd(h.U.col(i)) : Eigen::VectorXd(), h.Q.row(i),
+        auto row = checkRun(c, fit, x, c.mixer ? &h.physical[j] : nullptr, h.F.col(i),
+                            withU ? Eigen::VectorXd(h.U.col(i)) : Eigen::VectorXd(), h.Q.row(i),
                             h.rho[j], {withU && !c.zones.empty(), h.feedKgH[j], h.rpm[j]}, tally);
         row["run"] = h.runs[j].index;
         rows.push_back(row);
@@ -362,21 +434,29 @@ nlohmann::json campaignRegressionPredict(const fs::path& ledger, const std::stri
             warnings.push_back("outside the training box: " + c.inputs[static_cast<size_t>(k)] + " = " + std::to_string(x[k]) +
                                " (trained on " + std::to_string(lo) + " .. " + std::to_string(hi) + ")");
     }
-    const auto reg = PodRegression::fit(c.X, c.F, c.mesh.V, o.modes, o.energy);
-    const auto t0 = Clock::now();
-    const Eigen::VectorXd alpha = reg.predict(x);
+    const Fitted fit(c, Training{c.X, c.F, c.Q, c.physical, c.velocityTraining()}, o);
     const auto rhoIt = point.find("rho");
     const double rho = rhoIt != point.end() ? rhoIt->second : c.rho.front();
+    const auto scene = c.source->params();
+    const nlohmann::json at(point);
+    const surrogates::Point p = c.mixer ? physicalPoint(at, scene, rho, at.value("feed_kg_h", scene.value("feed_kg_h", 0.0)),
+                                                        at.value("rpm", scene.value("rpm", 0.0)))
+                                        : surrogates::Point{};
+    const auto t0 = Clock::now();
+    const Eigen::VectorXd in = fit.input(x, &p);
+    const Eigen::VectorXd alpha = fit.alpha.predict(in);
     const auto q = c.quantities(alpha, rho);
     const double seconds = secondsSince(t0);
-    nlohmann::json out{{"campaign", campaign}, {"scene", c.scene}, {"runs", c.X.rows()}, {"modes", reg.modes()},
-                       {"predict_seconds", seconds}, {"warnings", warnings}};
+    nlohmann::json out{{"campaign", campaign}, {"scene", c.scene}, {"runs", c.X.rows()}, {"modes", fit.alpha.modes()},
+                       {"predict_seconds", seconds}, {"warnings", warnings}, {"kriging_model", fit.comparison()}};
     for (size_t k = 0; k < c.inputs.size(); ++k) out["at"][c.inputs[k]] = x[static_cast<Eigen::Index>(k)];
-    for (size_t k = 0; k < c.qois.size(); ++k) out[c.qois[k]] = q[k];
+    for (size_t k = 0; k < c.qois.size(); ++k) {
+        out[c.qois[k]] = q[k];
+        out["kriging"][c.qois[k]] = fit.quantity(k, x, &p);
+    }
     if (!fieldsFile.empty()) {
         std::vector<std::pair<std::string, Eigen::MatrixXd>> fields{{"alpha", alpha}};
-        const auto [xu, u] = c.velocityTraining();
-        if (u.cols() >= kMinVelocityRuns) fields.emplace_back("U", PodRegression::fit(xu, u, c.wU, o.modes, o.energy).predict(x));
+        if (fit.U) fields.emplace_back("U", fit.U->predict(in));
         store::writeDerivedSnapshots(*c.source, {0.0}, fields,
                                      {{"written_by", "mixload rom regression (POD regression of campaign " + campaign + ")"},
                                       {"at", out["at"].dump()},

@@ -243,16 +243,19 @@ TEST(RomRegression, LeavesEachCampaignRunOutAndPredictsIt) {
 }
 
 TEST(RomRegression, MixerCampaignReadsItsLoadingFromTheField) {
-    // Three tiny mixer runs (gcm250, 1 cm, 0.05 s) over the bulk density: the loading that the stored
-    // field gives (rho sum alpha V) is the run's own, so the POD regression's M is comparable.
+    // Six tiny mixer runs (gcm250, 1 cm, 0.05 s) over the bulk density: the loading that the stored
+    // field gives (rho sum alpha V) is the run's own, so the POD regression's M is comparable. With
+    // five training runs per left-out one, M is compared with the loading surrogate itself, and the
+    // POD regression sees the runs in that surrogate's coordinates.
     const fs::path dir = scratchDir("rom-regression-mixer");
     snapshotCampaign(dir, "m", "scene = \"mixer\"\n[rho]\nmin = 300\nmax = 450\nunit = \"kg/m3\"\n",
-                     {"--n", "3", "--scene", "gcm250", "--cell-size", "0.01", "--end-time", "0.05"});
+                     {"--n", "6", "--scene", "gcm250", "--cell-size", "0.01", "--end-time", "0.05"});
     const auto r = runMixload({"rom", "regression", "--campaign", "m", "--dir", dir.string(), "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["scene"], "mixer3d");
     EXPECT_EQ(j["inputs"], nlohmann::json::array({"rho"}));
+    EXPECT_NE(j["rows"][0]["kriging_model"].get<std::string>().find("loading surrogate"), std::string::npos) << j["rows"][0];
     const auto& s = j["summary"]["loading_kg"];
     std::cout << "mixer: M from the stored field " << s["stored_field_mean_abs_error"] << ", POD regression "
               << s["pod_regression_mean_abs_error"] << ", kriging " << s["kriging_mean_abs_error"] << '\n';
@@ -275,7 +278,9 @@ TEST(RomRegression, MixerCampaignReadsItsLoadingFromTheField) {
     const auto at = runMixload({"rom", "regression", "--campaign", "m", "--dir", dir.string(), "--at", "rho=400",
                                 "--fields", (dir / "at400.h5").string(), "--json"});
     ASSERT_EQ(at.rc, 0) << at.err;
-    const double predicted = nlohmann::json::parse(at.out)["loading_kg"].get<double>();
+    const auto atJson = nlohmann::json::parse(at.out);
+    const double predicted = atJson["loading_kg"].get<double>();
+    EXPECT_GT(atJson["kriging"]["loading_kg"].get<double>(), 0.0);  // the surrogate's M beside it
     const auto warm = runMixload({"mixer", "--scene", "gcm250", "--cell-size", "0.01", "--rho", "400", "--end-time",
                                   "0.02", "--warm-from", (dir / "at400.h5").string(), "--out",
                                   (dir / "warm400").string(), "--json"});
