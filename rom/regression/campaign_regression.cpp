@@ -67,6 +67,7 @@ struct CampaignFields {
     std::vector<double> rho;  // mixer: each run's bulk density
     std::vector<surrogates::Point> physical;  // mixer: each run's seven inputs (surrogates' order)
     bool mixer = false;
+    int replicates = 0;       // finished replicates left out
     std::string scene;
     FvMesh mesh;
     std::optional<CollapseShape> shape;
@@ -80,6 +81,13 @@ struct CampaignFields {
         CampaignFields c;
         // A run's own snapshots, or the campaign's kept fields once its directory is gone.
         auto finals = store::campaignFinalFields(ledger, campaign);
+        // A replicate (campaign replicate: a design point run again from another deposit) repeats
+        // its point's inputs; it measures the label noise and is no training point of its own.
+        std::erase_if(finals.runs, [&](const store::FinalField& f) {
+            const bool replicate = f.run.params.contains("initial_loading_kg");
+            c.replicates += replicate ? 1 : 0;
+            return replicate;
+        });
         for (const auto& f : finals.runs) c.runs.push_back(f.run);
         if (c.runs.size() < minRuns)
             throw InputError("campaign", campaign,
@@ -338,6 +346,7 @@ nlohmann::json summarise(const CampaignFields& c, const Tally& t) {
         summary["loading_kg"]["steady_model_seconds"] = t.steadySeconds / t.steadyRuns;
     return {{"scene", c.scene},
             {"inputs", c.inputs},
+            {"replicates_left_out", c.replicates},
             {"cells", c.mesh.cells},
             {"alpha_error_mean", t.alpha / n},
             {"u_error_mean", t.uRuns > 0 ? nlohmann::json(t.u / t.uRuns) : nlohmann::json()},
