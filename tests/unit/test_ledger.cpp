@@ -236,6 +236,22 @@ TEST(Ledger, FidelityPilotPairsTwoCampaignsPointByPoint) {
     EXPECT_EQ(j["pairs"], 8);  // 10 points, one unsteady on each side
     EXPECT_NEAR(j["fit"]["slope"].get<double>(), 1.25, 1e-12);
     EXPECT_NEAR(j["fit"]["r2"].get<double>(), 1.0, 1e-12);
+    EXPECT_NEAR(j["log_fit"]["residual_scatter"].get<double>(), 0.0, 1e-9);  // a constant ratio
+    EXPECT_EQ(j["verdict"].get<std::string>().rfind("earns its place", 0), 0u) << j["verdict"];
+    // A coarse mesh that is right on the large loadings and 2.5 times too light on the small ones:
+    // r^2 on M stays high, the log-space scatter does not, and co-kriging is not worth it.
+    {
+        Ledger l(dir / "thin" / "ledger.sqlite");
+        l.createCampaign(info("thin"), points(10));
+        while (auto r = l.claimNext("thin", 2, false)) {
+            const double m = 0.05 * (r->index + 1);
+            l.markDone(r->id, {{"loading_kg", r->index < 3 ? 0.4 * m : m}, {"steady", true}}, 1, 1, "/x");
+        }
+    }
+    const auto thin = ex::fidelityPilot(dir / "fine", dir / "thin", dir / "out4");
+    EXPECT_GT(thin["fit"]["r2"].get<double>(), 0.9);
+    EXPECT_GT(thin["log_fit"]["residual_scatter"].get<double>(), 0.1);
+    EXPECT_EQ(thin["verdict"].get<std::string>().rfind("skip", 0), 0u) << thin["verdict"];
     EXPECT_EQ(ex::fidelityPilot(dir / "fine", dir / "other", dir / "out2")["pairs"], 0);
     EXPECT_THROW(ex::fidelityPilot(dir / "fine", dir / "none", dir / "out3"), mixload::InputError);
     fs::remove_all(dir);
