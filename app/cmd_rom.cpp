@@ -12,6 +12,7 @@
 #include "common/atomic_file.hpp"
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
+#include "campaign/campaign_table.hpp"
 #include "rom/regression/campaign_regression.hpp"
 #include "rom/steady/steady_loading.hpp"
 #include "rom/galerkin/collapse_check.hpp"
@@ -461,6 +462,7 @@ void addRom(CLI::App& app, Action& action) {
         bool json = false;
     };
     auto rg = std::make_shared<RegressionCmd>();
+    rg->opt.mixerInputs = experiments::mixerInputs;
     auto* reg = cmd->add_subcommand(
         "regression", "POD regression of a campaign's final powder fraction against its inputs, left out one run at a "
                       "time, beside kriging of the campaign's quantity (M, or L*f and H*f)");

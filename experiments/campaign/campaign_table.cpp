@@ -6,6 +6,12 @@
 
 namespace mixload::experiments {
 
+surrogates::Point mixerInputs(const nlohmann::json& base, const nlohmann::json& params) {
+    const auto s = mixerSceneFor(base, params);
+    return {s.material.muS, s.material.muD, s.material.I0, s.material.grainDiameter, s.material.bulkDensity(),
+            s.feedKgH,      s.rpm};
+}
+
 surrogates::Table campaignTable(const std::string& name, const std::string& dir, nlohmann::json& provenance) {
     const CampaignPlace o{name, dir};
     std::unique_ptr<store::Ledger> l;
@@ -22,12 +28,9 @@ surrogates::Table campaignTable(const std::string& name, const std::string& dir,
             ++t.skipped;
             continue;
         }
-        // Every input as the run saw it: the base scene with the point's parameters applied.
-        const auto s = mixerSceneFor(c.sceneJson, r.params);
         surrogates::Row row;
         row.id = r.params.value("scene_hash", std::to_string(r.index));
-        row.x = {s.material.muS, s.material.muD, s.material.I0, s.material.grainDiameter,
-                 s.material.bulkDensity(), s.feedKgH, s.rpm};
+        row.x = mixerInputs(c.sceneJson, r.params);  // every input as the run saw it
         row.m = *m;
         t.rows.push_back(row);
     }

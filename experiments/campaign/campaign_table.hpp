@@ -5,12 +5,18 @@
 
 #include <nlohmann/json.hpp>
 
+#include "inputs.hpp"
 #include "table.hpp"
 
 namespace mixload::experiments {
 
 // Throws InputError if the campaign does not exist or is not a mixer campaign. provenance gets the
 // campaign's name, ledger path, design, base scene and the code that created it.
+// A mixer point's seven inputs as the surrogates take them, read off its scene (the campaign's base
+// with the point's parameters applied), so that the surrogates' table and the POD regression see a
+// run alike.
+surrogates::Point mixerInputs(const nlohmann::json& base, const nlohmann::json& params);
+
 surrogates::Table campaignTable(const std::string& name, const std::string& dir, nlohmann::json& provenance);
 
 }  // namespace mixload::experiments

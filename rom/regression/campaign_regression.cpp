@@ -17,6 +17,7 @@
 #include "rom/operators/steady_transport.hpp"
 #include "rom/regression/pod_regression.hpp"
 #include "store/campaign_fields.hpp"
+#include "store/ledger.hpp"
 #include "store/snapshot_file.hpp"
 
 namespace mixload::rom {
@@ -40,20 +41,6 @@ std::vector<T> without(const std::vector<T>& v, Eigen::Index i) {
     return out;
 }
 
-// A mixer run's seven inputs as the surrogates take them: the run's own design values, the rest the
-// scene's (mu_d is mu_s + delta_mu when the design samples the difference).
-surrogates::Point physicalPoint(const nlohmann::json& params, const nlohmann::json& scene, double rho, double feedKgH,
-                                double rpm) {
-    const auto get = [&](const char* key, const char* sceneKey) {
-        return params.contains(key) ? params[key].get<double>() : scene.value(sceneKey, std::nan(""));
-    };
-    const double muS = get("mu_s", "material.mu_s");
-    const double muD = params.contains("mu_d")       ? params["mu_d"].get<double>()
-                       : params.contains("delta_mu") ? muS + params["delta_mu"].get<double>()
-                                                     : scene.value("material.mu_d", std::nan(""));
-    return {muS, muD, get("i0", "material.i0"), get("d", "material.grain_diameter_m"), rho, feedKgH, rpm};
-}
-
 // A campaign's finished runs with snapshots: their varying inputs X, last stored alpha F (cells x
 // runs) and recorded quantities Q, and what reads a quantity from a field.
 struct CampaignFields {
@@ -75,9 +62,11 @@ struct CampaignFields {
     // speed, for the reduced steady model.
     std::vector<store::CaseFile::MrfZone> zones;
     std::vector<double> feedKgH, rpm;
+    nlohmann::json base;  // mixer: the campaign's base scene (what a point's parameters leave alone)
 
     // minRuns: a training campaign needs three runs and inputs that vary; a hold-out one, a run.
-    static CampaignFields load(const fs::path& ledger, const std::string& campaign, size_t minRuns = 3) {
+    static CampaignFields load(const fs::path& ledger, const std::string& campaign, const RegressionCheckOptions& o,
+                               size_t minRuns = 3) {
         CampaignFields c;
         // A run's own snapshots, or the campaign's kept fields once its directory is gone.
         auto finals = store::campaignFinalFields(ledger, campaign);
@@ -110,19 +99,19 @@ struct CampaignFields {
         c.X.resize(n, d);
         c.F.resize(c.mesh.cells, n);
         c.Q.resize(n, static_cast<Eigen::Index>(c.qois.size()));
-        const auto scene = c.source->params();  // what a run's own inputs leave at the scene's value
+        if (c.mixer) {
+            if (!o.mixerInputs) throw std::logic_error("campaign regression: a mixer campaign needs mixerInputs");
+            c.base = store::Ledger(ledger).campaign(campaign).value().sceneJson;
+        }
         for (Eigen::Index i = 0; i < n; ++i) {
             const auto& f = finals.runs[static_cast<size_t>(i)];
             for (Eigen::Index k = 0; k < d; ++k) c.X(i, k) = f.run.params.at(c.inputs[static_cast<size_t>(k)]).get<double>();
             c.F.col(i) = f.alpha;
             for (size_t q = 0; q < c.qois.size(); ++q) c.Q(i, static_cast<Eigen::Index>(q)) = f.run.result.at(c.qois[q]).get<double>();
             c.rho.push_back(c.mixer ? f.bulkDensity : 0.0);
-            const auto value = [&](const char* k) {
-                return f.run.params.contains(k) ? f.run.params[k].get<double>() : scene.value(k, 0.0);
-            };
-            c.feedKgH.push_back(value("feed_kg_h"));
-            c.rpm.push_back(value("rpm"));
-            if (c.mixer) c.physical.push_back(physicalPoint(f.run.params, scene, f.bulkDensity, c.feedKgH.back(), c.rpm.back()));
+            if (c.mixer) c.physical.push_back(o.mixerInputs(c.base, f.run.params));
+            c.feedKgH.push_back(c.mixer ? c.physical.back()[5] : 0.0);
+            c.rpm.push_back(c.mixer ? c.physical.back()[6] : 0.0);
         }
         if (c.mixer) c.zones = c.source->mrfZones();
         // Runs kept before velocities were (or whose directories were gone by then) have none: the
@@ -360,7 +349,7 @@ nlohmann::json summarise(const CampaignFields& c, const Tally& t) {
 }  // namespace
 
 nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string& campaign, const RegressionCheckOptions& o) {
-    const auto c = CampaignFields::load(ledger, campaign);
+    const auto c = CampaignFields::load(ledger, campaign, o);
     const auto n = c.X.rows();
     Tally tally(c.qois.size());
     nlohmann::json rows = nlohmann::json::array();
@@ -384,8 +373,8 @@ nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string
 
 nlohmann::json campaignRegressionHoldout(const fs::path& ledger, const std::string& campaign, const fs::path& holdoutLedger,
                                          const std::string& holdout, const RegressionCheckOptions& o) {
-    const auto c = CampaignFields::load(ledger, campaign);
-    const auto h = CampaignFields::load(holdoutLedger, holdout, 1);
+    const auto c = CampaignFields::load(ledger, campaign, o);
+    const auto h = CampaignFields::load(holdoutLedger, holdout, o, 1);
     if (h.source->meshFingerprint() != c.source->meshFingerprint())
         throw InputError("holdout", holdout, "a campaign on the training campaign's mesh (" + campaign + ")");
     if (h.scene != c.scene) throw InputError("holdout", holdout, "a campaign of the training campaign's scene (" + c.scene + ")");
@@ -425,7 +414,7 @@ nlohmann::json campaignRegressionHoldout(const fs::path& ledger, const std::stri
 
 nlohmann::json campaignRegressionPredict(const fs::path& ledger, const std::string& campaign, const RegressionCheckOptions& o,
                                          const std::map<std::string, double>& point, const fs::path& fieldsFile) {
-    const auto c = CampaignFields::load(ledger, campaign);
+    const auto c = CampaignFields::load(ledger, campaign, o);
     Eigen::VectorXd x(c.X.cols());
     for (size_t k = 0; k < c.inputs.size(); ++k) {
         const auto it = point.find(c.inputs[k]);
@@ -444,13 +433,8 @@ nlohmann::json campaignRegressionPredict(const fs::path& ledger, const std::stri
                                " (trained on " + std::to_string(lo) + " .. " + std::to_string(hi) + ")");
     }
     const Fitted fit(c, Training{c.X, c.F, c.Q, c.physical, c.velocityTraining()}, o);
-    const auto rhoIt = point.find("rho");
-    const double rho = rhoIt != point.end() ? rhoIt->second : c.rho.front();
-    const auto scene = c.source->params();
-    const nlohmann::json at(point);
-    const surrogates::Point p = c.mixer ? physicalPoint(at, scene, rho, at.value("feed_kg_h", scene.value("feed_kg_h", 0.0)),
-                                                        at.value("rpm", scene.value("rpm", 0.0)))
-                                        : surrogates::Point{};
+    const surrogates::Point p = c.mixer ? o.mixerInputs(c.base, nlohmann::json(point)) : surrogates::Point{};
+    const double rho = c.mixer ? p[4] : c.rho.front();
     const auto t0 = Clock::now();
     const Eigen::VectorXd in = fit.input(x, &p);
     const Eigen::VectorXd alpha = fit.alpha.predict(in);

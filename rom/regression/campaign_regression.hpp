@@ -9,16 +9,23 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 
 #include <nlohmann/json.hpp>
+
+#include "inputs.hpp"
 
 namespace mixload::rom {
 
 struct RegressionCheckOptions {
     int modes = 0;           // POD modes of the field (0: by energy)
     double energy = 0.9999;
+    // Mixer campaigns: a point's seven inputs as the surrogates take them, from the campaign's base
+    // scene and the point's parameters. How a campaign builds a run's scene is the experiments
+    // layer's to say (experiments::mixerInputs); the loading surrogate sees the runs through it.
+    std::function<surrogates::Point(const nlohmann::json& base, const nlohmann::json& params)> mixerInputs;
 };
 
 // Throws InputError for a campaign without at least three finished runs with snapshots, runs on
