@@ -456,7 +456,7 @@ void addRom(CLI::App& app, Action& action) {
     });
 
     struct RegressionCmd {
-        std::string campaign, dir = "runs/campaigns", fields, holdout, holdoutDir;
+        std::string campaign, dir = "runs/campaigns", fields, holdout, holdoutDir, field = "alpha";
         std::vector<std::string> at;
         rom::RegressionCheckOptions opt;
         bool json = false;
@@ -470,6 +470,13 @@ void addRom(CLI::App& app, Action& action) {
     reg->add_option("--dir", rg->dir, "Campaign directory")->capture_default_str();
     reg->add_option("--modes", rg->opt.modes, "POD modes of the field (0: by --energy)")->capture_default_str();
     reg->add_option("--energy", rg->opt.energy, "Share of the field's fluctuation energy the modes keep")->capture_default_str();
+    reg->add_option("--field", rg->field,
+                    "Regress the powder fraction as is (alpha) or its logarithm (log: ln(alpha + floor); the loadings span "
+                    "two decades)")
+        ->check(CLI::IsMember({"alpha", "log"}))
+        ->capture_default_str();
+    reg->add_option("--log-floor", rg->opt.logFloor, "With --field log: the floor added to alpha (air cells stay finite)")
+        ->capture_default_str();
     reg->add_option("--at", rg->at, "Instead of the leave-one-out check: predict at NAME=VALUE (one per varying input; repeatable)");
     reg->add_option("--fields", rg->fields, "With --at: write the predicted alpha (and U) to this snapshot file (.h5, with .xmf)");
     reg->add_option("--holdout", rg->holdout,
@@ -480,6 +487,9 @@ void addRom(CLI::App& app, Action& action) {
         action = [rg] {
             if (rg->opt.modes < 0) throw InputError("modes", std::to_string(rg->opt.modes), "0 (by energy) or more");
             if (!(rg->opt.energy > 0 && rg->opt.energy <= 1)) throw InputError("energy", std::to_string(rg->opt.energy), "(0, 1]");
+            if (!(rg->opt.logFloor > 0 && rg->opt.logFloor <= 0.1))
+                throw InputError("log-floor", std::to_string(rg->opt.logFloor), "(0, 0.1]");
+            rg->opt.logField = rg->field == "log";
             const fs::path ledger = fs::path(rg->dir) / rg->campaign / "ledger.sqlite";
             if (!rg->at.empty()) {
                 if (!rg->holdout.empty()) throw InputError("holdout", rg->holdout, "without --at");
@@ -516,7 +526,7 @@ void addRom(CLI::App& app, Action& action) {
             }
             std::cout << std::setprecision(3) << "POD regression of " << j["campaign"].get<std::string>() << " ("
                       << j["scene"].get<std::string>() << ", " << j["runs"] << " runs, " << j["cells"] << " cells, inputs "
-                      << j["inputs"].dump() << "), "
+                      << j["inputs"].dump() << ", field " << j["regressed_field"].get<std::string>() << "), "
                       << (rg->holdout.empty() ? std::string("each run left out in turn")
                                               : "checked on the " + std::to_string(j["holdout_runs"].get<int>()) + " runs of " + rg->holdout)
                       << "\n  final alpha error mean "

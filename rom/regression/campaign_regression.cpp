@@ -206,12 +206,15 @@ struct Tally {
 struct Fitted {
     std::optional<surrogates::Surrogate> surrogate;
     surrogates::UnitBox box;
-    PodRegression alpha;
+    bool logField = false;
+    double floor = 0;
+    PodRegression alpha;  // of the regressed field (alpha, or ln(alpha + floor))
     std::optional<PodRegression> U;
     std::vector<surrogates::Kriging> kriging;
 
     Fitted(const CampaignFields& c, const Training& t, const RegressionCheckOptions& o)
-        : surrogate(fitSurrogate(c, t)), box(surrogates::UnitBox::of(t.X)), alpha(PodRegression::fit(inputs(t.X, t.P), t.F, c.mesh.V, o.modes, o.energy)) {
+        : surrogate(fitSurrogate(c, t)), box(surrogates::UnitBox::of(t.X)), logField(o.logField), floor(o.logFloor),
+          alpha(PodRegression::fit(inputs(t.X, t.P), toRegressed(t.F), c.mesh.V, o.modes, o.energy)) {
         if (t.velocity.U.cols() >= kMinVelocityRuns)
             U = PodRegression::fit(inputs(t.velocity.X, t.velocity.P), t.velocity.U, c.wU, o.modes, o.energy);
         if (surrogate) return;
@@ -226,6 +229,16 @@ struct Fitted {
         surrogates::FitOptions fo;
         fo.similarity = true;
         return surrogates::Surrogate::fit(rows, fo, nlohmann::json::object());
+    }
+    Eigen::MatrixXd toRegressed(const Eigen::MatrixXd& F) const {
+        if (!logField) return F;
+        return (F.array().max(0.0) + floor).log().matrix();
+    }
+    // The powder fraction at a run's regression inputs, back in [0, 1].
+    Eigen::VectorXd predictAlpha(const Eigen::VectorXd& in) const {
+        const Eigen::VectorXd r = alpha.predict(in);
+        if (!logField) return r;
+        return (r.array().exp() - floor).max(0.0).min(1.0).matrix();
     }
     // A run's inputs as the regressions see them.
     Eigen::VectorXd input(const Eigen::VectorXd& x, const surrogates::Point* p) const {
@@ -249,6 +262,7 @@ struct Fitted {
         auto ws = kriging[k].makeWorkspace();
         return kriging[k].predictMean(xs.data(), ws);
     }
+    std::string field() const { return logField ? "ln(alpha + " + std::to_string(floor) + ")" : "alpha"; }
     std::string comparison() const {
         return surrogate ? "the loading surrogate (surrogate fit --similarity): kriging of " + surrogate->transform().describe()
                          : "kriging of each quantity on the design inputs";
@@ -268,7 +282,7 @@ nlohmann::json checkRun(const CampaignFields& c, const Fitted& fit, const Eigen:
                         const SteadyPoint& steady, Tally& tally) {
     const auto t0 = Clock::now();
     const Eigen::VectorXd in = fit.input(x, p);
-    const Eigen::VectorXd alpha = fit.alpha.predict(in);
+    const Eigen::VectorXd alpha = fit.predictAlpha(in);
     const auto q = c.quantities(alpha, rho);
     tally.seconds += secondsSince(t0);
     const auto qStored = c.quantities(alphaRun, rho);
@@ -301,6 +315,7 @@ nlohmann::json checkRun(const CampaignFields& c, const Fitted& fit, const Eigen:
         }
     }
     row["kriging_model"] = fit.comparison();
+    row["regressed_field"] = fit.field();
     for (size_t k = 0; k < c.qois.size(); ++k) {
         const double truth = qRun[static_cast<Eigen::Index>(k)];
         const double kq = fit.quantity(k, x, p);
@@ -319,7 +334,7 @@ nlohmann::json checkRun(const CampaignFields& c, const Fitted& fit, const Eigen:
     return row;
 }
 
-nlohmann::json summarise(const CampaignFields& c, const Tally& t) {
+nlohmann::json summarise(const CampaignFields& c, const Tally& t, const RegressionCheckOptions& o) {
     const double n = t.runs;
     nlohmann::json summary = nlohmann::json::object();
     for (size_t k = 0; k < c.qois.size(); ++k)
@@ -335,6 +350,7 @@ nlohmann::json summarise(const CampaignFields& c, const Tally& t) {
         summary["loading_kg"]["steady_model_seconds"] = t.steadySeconds / t.steadyRuns;
     return {{"scene", c.scene},
             {"inputs", c.inputs},
+            {"regressed_field", o.logField ? "ln(alpha + " + std::to_string(o.logFloor) + ")" : "alpha"},
             {"replicates_left_out", c.replicates},
             {"cells", c.mesh.cells},
             {"alpha_error_mean", t.alpha / n},
@@ -364,7 +380,7 @@ nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string
         row["run"] = c.runs[static_cast<size_t>(i)].index;
         rows.push_back(row);
     }
-    auto out = summarise(c, tally);
+    auto out = summarise(c, tally, o);
     out["campaign"] = campaign;
     out["runs"] = n;
     out["rows"] = rows;
@@ -402,7 +418,7 @@ nlohmann::json campaignRegressionHoldout(const fs::path& ledger, const std::stri
         row["run"] = h.runs[j].index;
         rows.push_back(row);
     }
-    auto out = summarise(c, tally);
+    auto out = summarise(c, tally, o);
     out["campaign"] = campaign;
     out["holdout"] = holdout;
     out["runs"] = c.X.rows();
@@ -437,11 +453,12 @@ nlohmann::json campaignRegressionPredict(const fs::path& ledger, const std::stri
     const double rho = c.mixer ? p[4] : c.rho.front();
     const auto t0 = Clock::now();
     const Eigen::VectorXd in = fit.input(x, &p);
-    const Eigen::VectorXd alpha = fit.alpha.predict(in);
+    const Eigen::VectorXd alpha = fit.predictAlpha(in);
     const auto q = c.quantities(alpha, rho);
     const double seconds = secondsSince(t0);
     nlohmann::json out{{"campaign", campaign}, {"scene", c.scene}, {"runs", c.X.rows()}, {"modes", fit.alpha.modes()},
-                       {"predict_seconds", seconds}, {"warnings", warnings}, {"kriging_model", fit.comparison()}};
+                       {"predict_seconds", seconds}, {"warnings", warnings}, {"kriging_model", fit.comparison()},
+                       {"regressed_field", fit.field()}};
     for (size_t k = 0; k < c.inputs.size(); ++k) out["at"][c.inputs[k]] = x[static_cast<Eigen::Index>(k)];
     for (size_t k = 0; k < c.qois.size(); ++k) {
         out[c.qois[k]] = q[k];

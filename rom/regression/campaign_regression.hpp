@@ -22,6 +22,11 @@ namespace mixload::rom {
 struct RegressionCheckOptions {
     int modes = 0;           // POD modes of the field (0: by energy)
     double energy = 0.9999;
+    // The powder fraction regressed as is, or as ln(alpha + floor): the loadings span two decades
+    // (a thin film to a deep bed), and a linear mix of a film and a bed is neither; in the logarithm
+    // the runs differ by factors, as the loading surrogate models M. The floor keeps air cells finite.
+    bool logField = false;
+    double logFloor = 1e-3;
     // Mixer campaigns: a point's seven inputs as the surrogates take them, from the campaign's base
     // scene and the point's parameters. How a campaign builds a run's scene is the experiments
     // layer's to say (experiments::mixerInputs); the loading surrogate sees the runs through it.

@@ -273,6 +273,20 @@ TEST(RomRegression, MixerCampaignReadsItsLoadingFromTheField) {
     std::cout << "mixer: steady model " << s["steady_model_mean_abs_error"] << " (on the runs' own U "
               << s["steady_model_on_run_u_mean_abs_error"] << ")\n";
 
+    // The field's logarithm regressed instead (--field log): same runs, a field back in [0, 1].
+    const auto lg = runMixload({"rom", "regression", "--campaign", "m", "--dir", dir.string(), "--field", "log", "--json"});
+    ASSERT_EQ(lg.rc, 0) << lg.err;
+    const auto lj = nlohmann::json::parse(lg.out);
+    EXPECT_EQ(lj["regressed_field"], "ln(alpha + 0.001000)");
+    EXPECT_EQ(lj["rows"][0]["regressed_field"], "ln(alpha + 0.001000)");
+    EXPECT_TRUE(std::isfinite(lj["summary"]["loading_kg"]["pod_regression_mean_abs_error"].get<double>()));
+    std::cout << "mixer: POD regression of ln(alpha + 0.001) "
+              << lj["summary"]["loading_kg"]["pod_regression_mean_abs_error"] << '\n';
+    const auto floor0 = runMixload({"rom", "regression", "--campaign", "m", "--dir", dir.string(), "--field", "log",
+                                    "--log-floor", "0"});
+    EXPECT_EQ(floor0.rc, 2);
+    EXPECT_NE(floor0.err.find("log-floor"), std::string::npos) << floor0.err;
+
     // The regression's field at a new point starts a full run there (a warm start without a run):
     // the run begins with the field's loading; a field of another mesh is refused before any run.
     const auto at = runMixload({"rom", "regression", "--campaign", "m", "--dir", dir.string(), "--at", "rho=400",
