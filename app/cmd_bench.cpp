@@ -85,6 +85,7 @@ void addBench(CLI::App& app, Action& action) {
     bench->require_subcommand(1);
     addBenchPredict(bench, action);
     addBenchRom(bench, action);
+    addBenchParetoMixer(bench, action);
     auto* c = bench->add_subcommand("collapse", "Collapse a = 2 at Li/30: wall time, cells, cell-steps/s, serial vs MPI");
     auto o = std::make_shared<BenchCollapse>();
     o->scene.add(c);

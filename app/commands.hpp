@@ -14,6 +14,7 @@ void addCollapse(CLI::App& app, Action& action);
 void addBench(CLI::App& app, Action& action);
 void addBenchPredict(CLI::App* bench, Action& action);
 void addBenchRom(CLI::App* bench, Action& action);
+void addBenchParetoMixer(CLI::App* bench, Action& action);
 void addStudy(CLI::App& app, Action& action);
 void addCampaign(CLI::App& app, Action& action);
 void addCalibrate(CLI::App& app, Action& action);

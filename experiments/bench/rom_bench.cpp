@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "bench/rom_bench.hpp"
 
+#include "bench/pareto.hpp"
+
 #include <optional>
 #include <algorithm>
 #include <chrono>
@@ -80,28 +82,7 @@ nlohmann::json coarseRun(const RomBench& b, const CollapsePoint& p, int cells, c
     return run::runCollapse(jobAt(b, p, name, cells, b.base.writesPerTstar));
 }
 
-std::string paretoTable(const std::vector<ParetoMethod>& ms) {
-    std::ostringstream md;
-    md << std::setprecision(3) << "| method | online time per answer [s] | median L*f error | median H*f error | offline [s] | Pareto front |\n"
-       << "|---|---|---|---|---|---|\n";
-    for (const auto& m : ms)
-        md << "| " << m.name << " | " << m.seconds << " | "
-           << (m.reference ? std::string("reference") : formatNumber(std::round(m.runoutError * 1e5) / 1e3) + "%") << " | "
-           << (m.reference ? std::string("reference") : formatNumber(std::round(m.heightError * 1e5) / 1e3) + "%") << " | "
-           << m.offlineSeconds << " | " << (m.front ? "yes" : "") << " |\n";
-    return md.str();
-}
-
 }  // namespace
-
-void markParetoFront(std::vector<ParetoMethod>& ms) {
-    for (auto& m : ms) {
-        m.front = true;
-        for (const auto& o : ms)
-            if (&o != &m && o.seconds <= m.seconds && o.error <= m.error && (o.seconds < m.seconds || o.error < m.error))
-                m.front = false;
-    }
-}
 
 nlohmann::json runRomBench(const RomBench& b) {
     if (b.train.size() < 2) throw InputError("train", std::to_string(b.train.size()) + " points", "two or more training points");
@@ -304,14 +285,13 @@ nlohmann::json runRomBench(const RomBench& b) {
             eL.push_back(std::abs(m["runout_error"].get<double>()));
             eH.push_back(std::abs(m["height_error"].get<double>()));
         }
-        ParetoMethod p{name, median(t), 0, median(eL), median(eH), offline, false, false};
-        p.error = std::max(p.runoutError, p.heightError);
-        methods.push_back(p);
+        const double l = median(eL), h = median(eH);
+        methods.push_back({name, median(t), std::max(l, h), {l, h}, offline, false, false});
     };
     {
         std::vector<double> t;
         for (const auto& r : rows) t.push_back(r["full"]["seconds"].get<double>());
-        methods.push_back({"full run, Li/" + std::to_string(b.base.cellsPerLength) + " (reference)", median(t), 0, 0, 0, 0, true, false});
+        methods.push_back({"full run, Li/" + std::to_string(b.base.cellsPerLength) + " (reference)", median(t), 0, {0, 0}, 0, true, false});
     }
     for (size_t k = 0; k < b.coarseCells.size(); ++k)
         summarise("full run, Li/" + std::to_string(b.coarseCells[k]), [k](const nlohmann::json& r) -> const nlohmann::json& { return r["full_coarse"][k]; }, 0);
@@ -322,50 +302,16 @@ nlohmann::json runRomBench(const RomBench& b) {
     summarise("POD regression", [](const nlohmann::json& r) -> const nlohmann::json& { return r["pod_regression"]; },
               offlineFull + regressionFit);
     summarise("kriging", [](const nlohmann::json& r) -> const nlohmann::json& { return r["kriging"]; }, krigOffline);
-    markParetoFront(methods);
-    nlohmann::json pareto = nlohmann::json::array();
-    std::ostringstream pcsv, pdat;
-    pcsv << "method,seconds,runout_error,height_error,offline_seconds,front\n";
-    for (const auto& m : methods) {
-        pareto.push_back({{"method", m.name}, {"seconds", m.seconds}, {"runout_error", m.runoutError},
-                          {"height_error", m.heightError}, {"offline_seconds", m.offlineSeconds},
-                          {"reference", m.reference}, {"front", m.front}});
-        pcsv << '"' << m.name << "\"," << m.seconds << ',' << m.runoutError << ',' << m.heightError << ',' << m.offlineSeconds
-             << ',' << (m.front ? 1 : 0) << '\n';
-    }
-    // Front in order of time, the reference drawn at the error floor.
-    std::vector<ParetoMethod> byTime = methods;
-    std::sort(byTime.begin(), byTime.end(), [](const auto& a, const auto& c) { return a.seconds < c.seconds; });
-    const double floor = 1e-4;
-    // Labels alternately above and below their points: neighbours in time often share an error.
-    for (size_t i = 0; i < byTime.size(); ++i) {
-        const auto& m = byTime[i];
-        pdat << m.seconds << ' ' << std::max(m.error, floor) << " \"" << m.name << "\" " << (m.front ? 1 : 0) << ' '
-             << (i % 2 == 0 ? 1.7 : 0.55) << '\n';
-    }
-    pdat << "\n\n";
-    for (const auto& m : byTime)
-        if (m.front) pdat << m.seconds << ' ' << std::max(m.error, floor) << '\n';
-    writeFileAtomic(b.out / "pareto.md", "Collapse, " + std::to_string(held.size()) + " held-out runs (" +
-                                             std::to_string(model.mesh.cells) + " cells at Li/" +
-                                             std::to_string(b.base.cellsPerLength) + "), models trained on " +
-                                             std::to_string(train.size()) + "; medians over the held-out runs; error: " +
-                                             "|relative error| against the reference full run.\n\n" + paretoTable(methods));
-    writeFileAtomic(b.out / "pareto.csv", pcsv.str());
-    writeFileAtomic(b.out / "pareto.dat", pdat.str());
-    std::ostringstream pgp;
-    pgp << "set terminal pngcairo size 860,560 noenhanced\nset output 'pareto.png'\nset logscale xy\nset grid\nset format x '1e%L'\nset format y '1e%L'\n"
-        << "set xlabel 'online time per answer [s] (median)'\nset ylabel 'error: larger of the median |relative errors| in L*f, H*f'\n"
-        << "set title 'Collapse: time against error, " << held.size() << " held-out runs (reference drawn at " << floor << ")'\n"
-        << "set offsets graph 0.1, graph 0.3, graph 0.2, graph 0.2\nset key bottom left\n"
-        << "plot 'pareto.dat' index 0 using 1:2 with points pt 7 ps 1.5 lc 'blue' title 'methods', "
-        << "'' index 0 using 1:($2*$5):3 with labels font ',9' notitle, "
-        << "'' index 1 using 1:2 with steps lw 2 lc 'red' title 'Pareto front'\n";
-    const std::string pwarn = runGnuplot(b.out, "pareto.gp", pgp.str());
-    out["pareto"] = pareto;
-    out["pareto_table"] = (b.out / "pareto.md").string();
-    out["pareto_plot"] = (b.out / "pareto.png").string();
-    if (!pwarn.empty()) out["pareto_warning"] = pwarn;
+    const ParetoPlot plot{"Collapse, " + std::to_string(held.size()) + " held-out runs (" + std::to_string(model.mesh.cells) +
+                              " cells at Li/" + std::to_string(b.base.cellsPerLength) + "), models trained on " +
+                              std::to_string(train.size()) +
+                              "; medians over the held-out runs; error: |relative error| against the reference full run.",
+                          "Collapse: time against error, " + std::to_string(held.size()) + " held-out runs",
+                          "online time per answer [s] (median)",
+                          "error: larger of the median |relative errors| in L*f, H*f",
+                          {"median L*f error", "median H*f error"},
+                          {"runout_error", "height_error"}};
+    out.update(writePareto(b.out, plot, methods));
 
     // Table and plot: error against online time per held-out run and method.
     std::ostringstream md, csv, dat;

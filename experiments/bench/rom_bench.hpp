@@ -42,13 +42,4 @@ struct RomBench {
 // error| in L*f and H*f, offline cost apart, the Pareto front marked); returns the rows and costs.
 nlohmann::json runRomBench(const RomBench& bench);
 
-struct ParetoMethod {
-    std::string name;
-    double seconds = 0, error = 0;  // median online time per answer; error: the larger of the medians
-    double runoutError = 0, heightError = 0, offlineSeconds = 0;
-    bool reference = false, front = false;
-};
-// Marks the methods no other beats on both time and error (ties count as not beaten).
-void markParetoFront(std::vector<ParetoMethod>& methods);
-
 }  // namespace mixload::experiments

@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "calibrate/calibrator.hpp"
-#include "bench/rom_bench.hpp"
+#include "bench/pareto.hpp"
 #include "calibrate/mixer_calibration.hpp"
 #include "studies/formulation_study.hpp"
 #include "studies/methods_comparison.hpp"

@@ -1,0 +1,224 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "bench/mixer_pareto.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <optional>
+#include <sstream>
+
+#include "bench/pareto.hpp"
+#include "campaign/campaign_table.hpp"
+#include "common/atomic_file.hpp"
+#include "common/clock.hpp"
+#include "common/input_error.hpp"
+#include "common/stats.hpp"
+#include "model.hpp"
+#include "rom/regression/campaign_regression.hpp"
+
+namespace mixload::experiments {
+
+namespace fs = std::filesystem;
+
+namespace {
+using Clock = std::chrono::steady_clock;
+
+// A campaign's steady runs by design index: the point's parameters, its loading and its cost.
+struct SteadyRun {
+    nlohmann::json params;
+    surrogates::Point x{};
+    double m = 0, coreSeconds = 0;
+};
+struct SteadyRuns {
+    store::CampaignInfo info;
+    std::map<int, SteadyRun> runs;
+    double coreSeconds = 0;  // every finished run's, steady or not: what the campaign cost
+    std::string mesh() const {
+        return formatNumber(mixerSceneFor(info.sceneJson, nlohmann::json::object()).cellSize * 100) + " cm";
+    }
+};
+
+SteadyRuns steadyRuns(const CampaignPlace& place) {
+    std::unique_ptr<store::Ledger> l;
+    SteadyRuns s{openCampaign(place, l), {}, 0};
+    if (s.info.scene != "mixer") throw InputError("campaign", place.name, "a mixer campaign");
+    for (const auto& r : l->runs(place.name)) {
+        if (r.status == "done") s.coreSeconds += r.coreSeconds.value_or(0);
+        const auto m = runQuantity(r, s.info.scene);
+        if (!m || r.params.contains("initial_loading_kg")) continue;  // not steady, or a replicate
+        s.runs[r.index] = {r.params, mixerInputs(s.info.sceneJson, r.params), *m, r.coreSeconds.value_or(0)};
+    }
+    return s;
+}
+
+// The design's own inputs (the scene hash differs between meshes).
+bool samePoint(const nlohmann::json& a, const nlohmann::json& b) {
+    for (const auto& [k, v] : a.items()) {
+        if (k == "scene_hash" || !v.is_number()) continue;
+        if (!b.contains(k)) return false;
+        const double x = v.get<double>(), y = b[k].get<double>();
+        if (std::abs(x - y) > 1e-9 * std::max(std::abs(x), std::abs(y))) return false;
+    }
+    return true;
+}
+
+// Median seconds of one prediction at each point (each timed over enough repetitions to rise above
+// the clock's resolution), and the predictions.
+std::pair<double, std::vector<double>> timedPredictions(const surrogates::Surrogate& s, const std::vector<surrogates::Point>& xs) {
+    auto ws = s.makeWorkspace();
+    std::vector<double> m, t;
+    for (const auto& x : xs) {
+        m.push_back(s.predict(x, ws).m);
+        constexpr int reps = 2000;
+        double sink = 0;
+        const auto t0 = Clock::now();
+        for (int i = 0; i < reps; ++i) sink += s.predict(x, ws).m;
+        t.push_back(secondsSince(t0) / reps);
+        if (sink != sink) t.back() = std::nan("");
+    }
+    return {median(t), m};
+}
+}  // namespace
+
+nlohmann::json runMixerPareto(const MixerPareto& b) {
+    const auto train = steadyRuns(b.train), ref = steadyRuns(b.holdout);
+    if (train.runs.size() < 5)
+        throw InputError("campaign", b.train.name + " (" + std::to_string(train.runs.size()) + " steady runs)", "5 or more steady runs");
+    if (ref.runs.empty()) throw InputError("holdout", b.holdout.name, "a campaign with a steady run");
+    std::vector<SteadyRuns> coarse;
+    for (const auto& c : b.coarse) {
+        coarse.push_back(steadyRuns(c));
+        for (const auto& [i, r] : coarse.back().runs)
+            if (ref.runs.count(i) && !samePoint(ref.runs.at(i).params, r.params))
+                throw InputError("coarse", c.name, "the hold-out's design (point " + std::to_string(i) + " differs)");
+    }
+    std::vector<int> idx;
+    std::vector<surrogates::Point> xs;
+    for (const auto& [i, r] : ref.runs) idx.push_back(i), xs.push_back(r.x);
+
+    // Per hold-out run, each method's M; errors relative to the reference run.
+    std::map<std::string, std::map<int, double>> answer;
+    std::vector<ParetoMethod> methods;
+    const auto add = [&](const std::string& name, double seconds, double offline) {
+        std::vector<double> e;
+        for (const auto& [i, m] : answer[name]) e.push_back(std::abs(m / ref.runs.at(i).m - 1));
+        if (e.empty()) return;
+        double mean = 0, worst = 0;
+        for (const double v : e) mean += v / static_cast<double>(e.size()), worst = std::max(worst, v);
+        methods.push_back({name + " (" + std::to_string(e.size()) + ")", seconds, median(e), {median(e), mean, worst}, offline, false, false});
+    };
+    {
+        std::vector<double> t;
+        for (const auto& [i, r] : ref.runs) t.push_back(r.coreSeconds);
+        methods.push_back({"full run, " + ref.mesh() + " (reference, " + std::to_string(t.size()) + ")", median(t), 0, {0, 0, 0}, 0, true, false});
+    }
+    for (size_t k = 0; k < coarse.size(); ++k) {
+        const std::string name = "full run, " + coarse[k].mesh() + ", " + b.coarse[k].name;
+        std::vector<double> t;
+        for (const auto& [i, r] : coarse[k].runs)
+            if (ref.runs.count(i)) answer[name][i] = r.m, t.push_back(r.coreSeconds);
+        add(name, median(t), 0);
+    }
+    // The loading surrogate as `surrogate fit --similarity [--kind rsm]` fits it on the training runs.
+    nlohmann::json provenance;
+    const auto table = campaignTable(b.train.name, b.train.dir, provenance);
+    for (const std::string kind : {"kriging", "rsm"}) {
+        surrogates::FitOptions fo;
+        fo.kind = kind;
+        fo.similarity = true;
+        const auto t0 = Clock::now();
+        const auto s = surrogates::Surrogate::fit(table.rows, fo, provenance);
+        const double fit = secondsSince(t0);
+        const auto [seconds, m] = timedPredictions(s, xs);
+        const std::string name = kind == "kriging" ? "kriging (loading surrogate)" : "response surface";
+        for (size_t j = 0; j < idx.size(); ++j) answer[name][idx[j]] = m[j];
+        add(name, seconds, train.coreSeconds + fit);
+    }
+    // POD regression of the final field, as `rom regression --holdout` runs it; it needs both
+    // campaigns' snapshots, and says so when they are missing.
+    nlohmann::json notes = nlohmann::json::array();
+    for (const bool logField : {false, true}) {
+        rom::RegressionCheckOptions o;
+        o.mixerInputs = mixerInputs;
+        o.logField = logField;
+        const std::string name = logField ? "POD regression of ln(alpha)" : "POD regression of alpha";
+        try {
+            const auto t0 = Clock::now();
+            const auto j = rom::campaignRegressionHoldout(b.train.ledger(), b.train.name, b.holdout.ledger(), b.holdout.name, o);
+            const double total = secondsSince(t0);
+            for (const auto& r : j["rows"]) {
+                const int i = r["run"].get<int>();
+                if (ref.runs.count(i)) answer[name][i] = r["loading_kg"]["pod_regression"].get<double>();
+                if (!logField && r["loading_kg"].contains("steady_model") && ref.runs.count(i))
+                    answer["reduced steady transport on the regressed U"][i] = r["loading_kg"]["steady_model"].get<double>();
+            }
+            add(name, j["predict_seconds"].get<double>(), train.coreSeconds + total);
+            if (!logField && j["summary"]["loading_kg"].contains("steady_model_seconds"))
+                add("reduced steady transport on the regressed U", j["summary"]["loading_kg"]["steady_model_seconds"].get<double>(),
+                    train.coreSeconds + total);
+        } catch (const InputError& e) {
+            notes.push_back(name + ": " + e.what());
+        }
+    }
+
+    // Per run: every method's answer beside the reference.
+    std::ostringstream md, csv;
+    md << "| hold-out run | reference M [kg] |";
+    csv << "run,reference_kg";
+    for (const auto& [name, a] : answer) md << ' ' << name << " |", csv << ",\"" << name << '"';
+    md << "\n|---|---|";
+    for (size_t k = 0; k < answer.size(); ++k) md << "---|";
+    md << '\n';
+    csv << '\n';
+    nlohmann::json rows = nlohmann::json::array();
+    for (const int i : idx) {
+        const double m0 = ref.runs.at(i).m;
+        md << "| " << i << " | " << formatNumber(m0) << " |";
+        csv << i << ',' << m0;
+        nlohmann::json row{{"run", i}, {"reference_kg", m0}};
+        for (const auto& [name, a] : answer) {
+            const auto it = a.find(i);
+            if (it == a.end()) {
+                md << " – |", csv << ',';
+                continue;
+            }
+            std::ostringstream cell;
+            cell << formatNumber(it->second) << " (" << (it->second >= m0 ? "+" : "") << formatNumber(std::round((it->second / m0 - 1) * 1e3) / 10) << "%)";
+            md << ' ' << cell.str() << " |";
+            csv << ',' << it->second;
+            row[name] = it->second;
+        }
+        md << '\n';
+        csv << '\n';
+        rows.push_back(row);
+    }
+    fs::create_directories(b.out);
+    writeFileAtomic(b.out / "runs.md", md.str());
+    writeFileAtomic(b.out / "runs.csv", csv.str());
+
+    const std::string n = std::to_string(idx.size());
+    const ParetoPlot plot{"Mixer loading M, " + n + " steady hold-out runs of `" + b.holdout.name + "` (" + ref.mesh() +
+                              "), models fitted on the " + std::to_string(train.runs.size()) + " steady runs of `" + b.train.name +
+                              "`; error: |relative error| in M against the hold-out's full run; time: a full run's "
+                              "core-seconds (ledger), a model's wall time per answer here; offline: the training "
+                              "campaign's core-seconds plus the fit. The count after a method: hold-out runs it answered.",
+                          "Mixer loading: time against error, " + n + " hold-out runs",
+                          "time per answer [s] (median; full runs: core-seconds)",
+                          "median |relative error| in M",
+                          {"median M error", "mean M error", "max M error"},
+                          {"median_error", "mean_error", "max_error"}};
+    nlohmann::json out{{"train", b.train.name},
+                       {"holdout", b.holdout.name},
+                       {"coarse", nlohmann::json::array()},
+                       {"train_steady_runs", train.runs.size()},
+                       {"holdout_steady_runs", idx.size()},
+                       {"train_core_seconds", train.coreSeconds},
+                       {"runs", rows},
+                       {"runs_table", (b.out / "runs.md").string()},
+                       {"notes", notes}};
+    for (const auto& c : b.coarse) out["coarse"].push_back(c.name);
+    out.update(writePareto(b.out, plot, methods));
+    return out;
+}
+
+}  // namespace mixload::experiments
