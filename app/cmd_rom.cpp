@@ -12,6 +12,7 @@
 #include "common/atomic_file.hpp"
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
+#include "campaign/campaign.hpp"
 #include "campaign/campaign_table.hpp"
 #include "rom/regression/campaign_regression.hpp"
 #include "rom/steady/steady_loading.hpp"
@@ -490,6 +491,8 @@ void addRom(CLI::App& app, Action& action) {
             if (!(rg->opt.logFloor > 0 && rg->opt.logFloor <= 0.1))
                 throw InputError("log-floor", std::to_string(rg->opt.logFloor), "(0, 0.1]");
             rg->opt.logField = rg->field == "log";
+            const auto noise = experiments::campaignNoise({rg->campaign, rg->dir})["run_noise"];
+            rg->opt.surrogateNoise = noise.is_number() ? noise.get<double>() : 0.0;
             const fs::path ledger = fs::path(rg->dir) / rg->campaign / "ledger.sqlite";
             if (!rg->at.empty()) {
                 if (!rg->holdout.empty()) throw InputError("holdout", rg->holdout, "without --at");

@@ -120,12 +120,16 @@ nlohmann::json runMixerPareto(const MixerPareto& b) {
         add(name, median(t), 0);
     }
     // The loading surrogate as `surrogate fit --similarity [--kind rsm]` fits it on the training runs.
+    // Its nugget is kept at or above the label noise the training campaign's replicates measured
+    // (`campaign noise`, what `surrogate fit --noise` takes), as issue 16's models are fitted.
     nlohmann::json provenance;
     const auto table = campaignTable(b.train.name, b.train.dir, provenance);
+    const auto noise = campaignNoise(b.train)["run_noise"];
     for (const std::string kind : {"kriging", "rsm"}) {
         surrogates::FitOptions fo;
         fo.kind = kind;
         fo.similarity = true;
+        fo.noise = noise.is_number() ? noise.get<double>() : 0.0;
         const auto t0 = Clock::now();
         const auto s = surrogates::Surrogate::fit(table.rows, fo, provenance);
         const double fit = secondsSince(t0);
@@ -141,6 +145,7 @@ nlohmann::json runMixerPareto(const MixerPareto& b) {
         rom::RegressionCheckOptions o;
         o.mixerInputs = mixerInputs;
         o.logField = logField;
+        o.surrogateNoise = noise.is_number() ? noise.get<double>() : 0.0;
         const std::string name = logField ? "POD regression of ln(alpha)" : "POD regression of alpha";
         try {
             const auto t0 = Clock::now();
@@ -213,6 +218,7 @@ nlohmann::json runMixerPareto(const MixerPareto& b) {
                        {"train_steady_runs", train.runs.size()},
                        {"holdout_steady_runs", idx.size()},
                        {"train_core_seconds", train.coreSeconds},
+                       {"surrogate_noise", noise},
                        {"runs", rows},
                        {"runs_table", (b.out / "runs.md").string()},
                        {"notes", notes}};

@@ -3,7 +3,8 @@
 // the steady runs of a hold-out campaign (placed by design, never used to fit), each method's time
 // per answer and error in M. The reference is the hold-out's own full run; the same points on
 // coarser meshes (campaigns of the same design) are the full model's cheaper answers; the loading
-// surrogate (kriging and response surface, exact similarity) and the POD regression (of alpha and
+// surrogate (kriging and response surface, exact similarity, the nugget at or above the training
+// campaign's replicate noise when it has replicates) and the POD regression (of alpha and
 // of ln alpha) are fitted on a training campaign on the reference mesh. Full runs are costed in
 // core-seconds from their ledgers; the models are timed here, in this process.
 #pragma once

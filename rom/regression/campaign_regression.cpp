@@ -213,7 +213,7 @@ struct Fitted {
     std::vector<surrogates::Kriging> kriging;
 
     Fitted(const CampaignFields& c, const Training& t, const RegressionCheckOptions& o)
-        : surrogate(fitSurrogate(c, t)), box(surrogates::UnitBox::of(t.X)), logField(o.logField), floor(o.logFloor),
+        : surrogate(fitSurrogate(c, t, o.surrogateNoise)), box(surrogates::UnitBox::of(t.X)), logField(o.logField), floor(o.logFloor),
           alpha(PodRegression::fit(inputs(t.X, t.P), toRegressed(t.F), c.mesh.V, o.modes, o.energy)) {
         if (t.velocity.U.cols() >= kMinVelocityRuns)
             U = PodRegression::fit(inputs(t.velocity.X, t.velocity.P), t.velocity.U, c.wU, o.modes, o.energy);
@@ -222,12 +222,13 @@ struct Fitted {
         for (Eigen::Index k = 0; k < t.Q.cols(); ++k) kriging.push_back(surrogates::Kriging::fit(Xs, t.Q.col(k), surrogates::KrigingOptions{}));
     }
 
-    static std::optional<surrogates::Surrogate> fitSurrogate(const CampaignFields& c, const Training& t) {
+    static std::optional<surrogates::Surrogate> fitSurrogate(const CampaignFields& c, const Training& t, double noise) {
         if (!c.mixer || t.P.size() < 5) return std::nullopt;
         std::vector<surrogates::Row> rows;
         for (size_t i = 0; i < t.P.size(); ++i) rows.push_back({std::to_string(i), t.P[i], t.Q(static_cast<Eigen::Index>(i), 0)});
         surrogates::FitOptions fo;
         fo.similarity = true;
+        fo.noise = noise;
         return surrogates::Surrogate::fit(rows, fo, nlohmann::json::object());
     }
     Eigen::MatrixXd toRegressed(const Eigen::MatrixXd& F) const {

@@ -31,6 +31,9 @@ struct RegressionCheckOptions {
     // scene and the point's parameters. How a campaign builds a run's scene is the experiments
     // layer's to say (experiments::mixerInputs); the loading surrogate sees the runs through it.
     std::function<surrogates::Point(const nlohmann::json& base, const nlohmann::json& params)> mixerInputs;
+    // The comparison surrogate's nugget floor: the training campaign's label noise (campaign noise),
+    // as `surrogate fit --noise` takes it; 0 without replicates.
+    double surrogateNoise = 0;
 };
 
 // Throws InputError for a campaign without at least three finished runs with snapshots, runs on
