@@ -19,6 +19,7 @@ struct CampaignCmd {
     bool json = false, adaptive = false;
     double depositFactor = 0.5;
     std::string checkModel;
+    std::vector<std::string> warmFrom;
 };
 
 int printCreated(const CampaignCmd& o) {
@@ -143,8 +144,16 @@ void addCampaign(CLI::App& app, Action& action) {
                  "Mixer: start each design point from the latest fields of a finished run instead of the scene's deposit: the "
                  "steady run whose loading is nearest a kriging prediction at the point (five steady runs or more), else the "
                  "nearest in the unit cube; replicates keep their deposits. A run's start is in its result (start)");
+    rn->add_option("--warm-from-campaign", o->warmFrom,
+                   "Mixer: as --warm-nearest, with the finished runs of this campaign (same base scene and mesh; repeatable) "
+                   "among the starts, e.g. a hold-out campaign starting from its training campaign's runs");
     rn->add_flag("--json", o->json, "Print JSON");
-    rn->callback([&action, o] { action = [o] { return printRun(*o); }; });
+    rn->callback([&action, o] {
+        action = [o] {
+            for (const auto& n : o->warmFrom) o->run.warmFrom.push_back({n, o->spec.place.dir});
+            return printRun(*o);
+        };
+    });
 
     auto* xt = camp->add_subcommand("extend", "Add points to a campaign's design without repeating any (Sobol continues; LHS is augmented)");
     xt->add_option("name", o->spec.place.name, "Campaign name")->required();

@@ -240,15 +240,20 @@ double distance2(const std::vector<double>& a, const std::vector<double>& b) {
 // (the speed) than along others. With fewer, the nearest finished run in the design's unit cube,
 // steady or stopped at its time cap, and also when no model fits the steady runs.
 fs::path warmSourceFor(const std::vector<store::LedgerRun>& runs, const ParameterSpace& space,
-                       const store::LedgerRun& r) {
+                       const store::LedgerRun& r, const std::vector<store::LedgerRun>& pool = {}) {
     const auto at = unitOf(space, r);
+    std::vector<const store::LedgerRun*> candidates;
+    for (const auto& o : runs)
+        if (o.index != r.index) candidates.push_back(&o);
+    for (const auto& o : pool) candidates.push_back(&o);
     Design units;
     std::vector<double> logM;
     std::vector<fs::path> dirs;
     fs::path nearest;
     double nearestD2 = 1e300;
-    for (const auto& o : runs) {
-        if (o.status != "done" || o.index == r.index || o.runDir.empty()) continue;
+    for (const auto* p : candidates) {
+        const auto& o = *p;
+        if (o.status != "done" || o.runDir.empty()) continue;
         std::error_code ec;
         if (!fs::exists(fs::path(o.runDir) / "result.json", ec)) continue;
         auto u = unitOf(space, o);
@@ -275,13 +280,28 @@ fs::path warmSourceFor(const std::vector<store::LedgerRun>& runs, const Paramete
 
 }  // namespace
 
-fs::path campaignWarmSource(const CampaignPlace& place, int index) {
+std::vector<store::LedgerRun> warmPool(const store::CampaignInfo& c, const std::vector<CampaignPlace>& from) {
+    std::vector<store::LedgerRun> pool;
+    for (const auto& p : from) {
+        std::unique_ptr<store::Ledger> l;
+        const auto other = openCampaign(p, l);
+        // A start's fields must be of the run's own mesh and scene: the same base, whatever the design.
+        if (other.sceneJson != c.sceneJson)
+            throw InputError("warm-from-campaign", p.name, "a campaign on the same base scene and mesh as " + c.name);
+        for (auto& r : l->runs(p.name))
+            if (r.status == "done") pool.push_back(std::move(r));
+    }
+    return pool;
+}
+
+fs::path campaignWarmSource(const CampaignPlace& place, int index, const std::vector<CampaignPlace>& from) {
     std::unique_ptr<store::Ledger> l;
     const auto c = openCampaign(place, l);
     const auto space = rangesOf(c, place.name);
     const auto runs = l->runs(place.name);
+    const auto pool = warmPool(c, from);
     for (const auto& r : runs)
-        if (r.index == index) return warmSourceFor(runs, space, r);
+        if (r.index == index) return warmSourceFor(runs, space, r, pool);
     throw InputError("index", std::to_string(index), "a point of campaign " + place.name);
 }
 
@@ -522,9 +542,10 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
     const auto c = openCampaign(place, ledger);
     const fs::path home = place.home();
     const DriverLock lock(home, "campaign run");
-    if (o.warmNearest && c.scene != "mixer")
+    if ((o.warmNearest || !o.warmFrom.empty()) && c.scene != "mixer")
         throw InputError("warm-nearest", "on", "a mixer campaign (a collapse starts from its column)");
     const auto space = rangesOf(c, place.name);
+    const auto warmRuns = warmPool(c, o.warmFrom);
     // Whatever a previous driver left running died with it (its solvers die with their parent).
     const int recovered = ledger->requeueRunning(place.name);
     const auto start = std::chrono::steady_clock::now();
@@ -549,8 +570,8 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
             bool done = false;
             try {
                 // A replicate's deposit is the point of its run: it never starts warm.
-                const fs::path warm = o.warmNearest && !r->params.contains("initial_loading_kg")
-                                          ? warmSourceFor(l.runs(place.name), space, *r)
+                const fs::path warm = (o.warmNearest || !o.warmFrom.empty()) && !r->params.contains("initial_loading_kg")
+                                          ? warmSourceFor(l.runs(place.name), space, *r, warmRuns)
                                           : fs::path();
                 const nlohmann::json res =
                     c.scene == "mixer"

@@ -45,12 +45,15 @@ struct CampaignRunOptions {
     // (five steady runs or more), else the nearest finished run in the unit cube. Replicates keep
     // their own deposits, and the first point, with nothing finished, starts from the deposit.
     bool warmNearest = false;
+    // Also the finished runs of these campaigns (on the same base scene and mesh) as starts, with
+    // warm-nearest implied: a hold-out campaign starts from its training campaign's runs.
+    std::vector<CampaignPlace> warmFrom;
     // Called after each finished run, one at a time (e.g. checking a surrogate against the campaign).
     std::function<void()> afterRun;
 };
 
 // The run directory a mixer design point would start from under --warm-nearest (empty: the deposit).
-std::filesystem::path campaignWarmSource(const CampaignPlace& place, int index);
+std::filesystem::path campaignWarmSource(const CampaignPlace& place, int index, const std::vector<CampaignPlace>& from = {});
 
 // Every point becomes a validated scene before the ledger exists: bad input leaves nothing.
 nlohmann::json createCampaign(const CampaignSpec& spec);

@@ -294,5 +294,41 @@ TEST(Ledger, WarmStartTakesTheRunWhoseLoadingIsNearestTheModelsPrediction) {
     finish(6);
     EXPECT_EQ(ex::campaignWarmSource(spec.place, 7).filename(), "run2");
     EXPECT_THROW(ex::campaignWarmSource(spec.place, 99), mixload::InputError);
+    // A hold-out campaign with nothing finished of its own starts from the training campaign's runs
+    // (--warm-from-campaign): each point takes the training run whose loading is nearest the
+    // model's prediction there.
+    ex::CampaignSpec hold = spec;
+    hold.place.name = "hold";
+    hold.design = "lhs";
+    hold.n = 3;
+    ex::createCampaign(hold);
+    {
+        mixload::store::Ledger l(hold.place.ledger());
+        const auto runs = l.runs("hold");
+        EXPECT_TRUE(ex::campaignWarmSource(hold.place, runs[0].index).empty());  // no pool: the deposit
+        mixload::store::Ledger train(spec.place.ledger());
+        const auto trainRuns = train.runs("warm");
+        for (const auto& r : runs) {
+            const auto w = ex::campaignWarmSource(hold.place, r.index, {spec.place});
+            ASSERT_FALSE(w.empty());
+            EXPECT_EQ(w.parent_path(), dir) << w;  // one of the training campaign's run directories
+            // The model sees M = feed/100 exactly: the start is the finished run nearest in feed.
+            const double feed = r.params["feed_kg_h"].get<double>();
+            std::string nearest;
+            double best = 1e300;
+            for (const auto& t : trainRuns) {
+                if (t.status != "done") continue;
+                const double d = std::abs(std::log(t.params["feed_kg_h"].get<double>() / feed));
+                if (d < best) best = d, nearest = "run" + std::to_string(t.index);
+            }
+            EXPECT_EQ(w.filename(), nearest) << "hold point at " << feed << " kg/h";
+        }
+    }
+    // A pool on another base (another mesh) is refused: its fields would not fit the run's mesh.
+    ex::CampaignSpec other = spec;
+    other.place.name = "other";
+    other.cellSize = 0.02;
+    ex::createCampaign(other);
+    EXPECT_THROW(ex::campaignWarmSource(hold.place, 0, {other.place}), mixload::InputError);
     fs::remove_all(dir);
 }
