@@ -390,43 +390,65 @@ nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string
 
 nlohmann::json campaignRegressionHoldout(const fs::path& ledger, const std::string& campaign, const fs::path& holdoutLedger,
                                          const std::string& holdout, const RegressionCheckOptions& o) {
-    const auto c = CampaignFields::load(ledger, campaign, o);
-    const auto h = CampaignFields::load(holdoutLedger, holdout, o, 1);
+    return campaignRegressionHoldouts(ledger, campaign, holdoutLedger, holdout, {o}).front();
+}
+
+std::vector<nlohmann::json> campaignRegressionHoldouts(const fs::path& ledger, const std::string& campaign,
+                                                       const fs::path& holdoutLedger, const std::string& holdout,
+                                                       const std::vector<RegressionCheckOptions>& variants) {
+    if (variants.empty()) throw std::logic_error("campaign regression: no regression asked for");
+    const auto t0 = Clock::now();
+    const auto c = CampaignFields::load(ledger, campaign, variants.front());
+    const auto h = CampaignFields::load(holdoutLedger, holdout, variants.front(), 1);
+    const double loadSeconds = secondsSince(t0);
     if (h.source->meshFingerprint() != c.source->meshFingerprint())
         throw InputError("holdout", holdout, "a campaign on the training campaign's mesh (" + campaign + ")");
     if (h.scene != c.scene) throw InputError("holdout", holdout, "a campaign of the training campaign's scene (" + c.scene + ")");
-    const Fitted fit(c, Training{c.X, c.F, c.Q, c.physical, c.velocityTraining()}, o);
-    Tally tally(c.qois.size());
-    nlohmann::json rows = nlohmann::json::array(), outside = nlohmann::json::array();
+    // The hold-out runs' values of the training design's inputs (the hold-out may hold some fixed),
+    // and which lie outside the training box.
+    Eigen::MatrixXd X(static_cast<Eigen::Index>(h.runs.size()), c.X.cols());
+    nlohmann::json outside = nlohmann::json::array();
     for (size_t j = 0; j < h.runs.size(); ++j) {
-        // The hold-out run's values of the training design's inputs (it may hold some fixed).
-        Eigen::VectorXd x(c.X.cols());
+        const auto r = static_cast<Eigen::Index>(j);
         bool inside = true;
         for (size_t k = 0; k < c.inputs.size(); ++k) {
             const auto& p = h.runs[j].params;
             if (!p.contains(c.inputs[k]) || !p[c.inputs[k]].is_number())
                 throw InputError("holdout", holdout, "runs that give every input the training campaign varies (" + c.inputs[k] + ")");
-            x[static_cast<Eigen::Index>(k)] = p[c.inputs[k]].get<double>();
-            inside = inside && x[static_cast<Eigen::Index>(k)] >= c.X.col(static_cast<Eigen::Index>(k)).minCoeff() &&
-                     x[static_cast<Eigen::Index>(k)] <= c.X.col(static_cast<Eigen::Index>(k)).maxCoeff();
+            const auto col = static_cast<Eigen::Index>(k);
+            X(r, col) = p[c.inputs[k]].get<double>();
+            inside = inside && X(r, col) >= c.X.col(col).minCoeff() && X(r, col) <= c.X.col(col).maxCoeff();
         }
         if (!inside) outside.push_back(h.runs[j].index);
-        const auto i = static_cast<Eigen::Index>(j);
-        const bool withU = h.hasU[j];
-        auto row = checkRun(c, fit, x, c.mixer ? &h.physical[j] : nullptr, h.F.col(i),
-                            withU ? Eigen::VectorXd(h.U.col(i)) : Eigen::VectorXd(), h.Q.row(i),
-                            h.rho[j], {withU && !c.zones.empty(), h.feedKgH[j], h.rpm[j]}, tally);
-        row["run"] = h.runs[j].index;
-        rows.push_back(row);
     }
-    auto out = summarise(c, tally, o);
-    out["campaign"] = campaign;
-    out["holdout"] = holdout;
-    out["runs"] = c.X.rows();
-    out["holdout_runs"] = h.runs.size();
-    out["holdout_outside_training_box"] = outside;
-    out["rows"] = rows;
-    return out;
+    std::vector<nlohmann::json> results;
+    for (const auto& o : variants) {
+        const auto t1 = Clock::now();
+        const Fitted fit(c, Training{c.X, c.F, c.Q, c.physical, c.velocityTraining()}, o);
+        const double fitSeconds = secondsSince(t1);
+        Tally tally(c.qois.size());
+        nlohmann::json rows = nlohmann::json::array();
+        for (size_t j = 0; j < h.runs.size(); ++j) {
+            const auto i = static_cast<Eigen::Index>(j);
+            const bool withU = h.hasU[j];
+            auto row = checkRun(c, fit, X.row(i).transpose(), c.mixer ? &h.physical[j] : nullptr, h.F.col(i),
+                                withU ? Eigen::VectorXd(h.U.col(i)) : Eigen::VectorXd(), h.Q.row(i), h.rho[j],
+                                {withU && !c.zones.empty(), h.feedKgH[j], h.rpm[j]}, tally);
+            row["run"] = h.runs[j].index;
+            rows.push_back(row);
+        }
+        auto out = summarise(c, tally, o);
+        out["campaign"] = campaign;
+        out["holdout"] = holdout;
+        out["runs"] = c.X.rows();
+        out["holdout_runs"] = h.runs.size();
+        out["holdout_outside_training_box"] = outside;
+        out["load_seconds"] = loadSeconds;
+        out["fit_seconds"] = fitSeconds;
+        out["rows"] = rows;
+        results.push_back(std::move(out));
+    }
+    return results;
 }
 
 nlohmann::json campaignRegressionPredict(const fs::path& ledger, const std::string& campaign, const RegressionCheckOptions& o,

@@ -12,6 +12,7 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -48,6 +49,13 @@ nlohmann::json campaignRegressionCheck(const std::filesystem::path& ledger, cons
 nlohmann::json campaignRegressionHoldout(const std::filesystem::path& ledger, const std::string& campaign,
                                          const std::filesystem::path& holdoutLedger, const std::string& holdout,
                                          const RegressionCheckOptions& options);
+
+// The same check for several regressions of one pair of campaigns (say of alpha and of ln alpha),
+// the fields read once: one result per options, in their order, each with the seconds its fit took
+// ("fit_seconds") beside the reading's ("load_seconds"). The options must agree on mixerInputs.
+std::vector<nlohmann::json> campaignRegressionHoldouts(const std::filesystem::path& ledger, const std::string& campaign,
+                                                       const std::filesystem::path& holdoutLedger, const std::string& holdout,
+                                                       const std::vector<RegressionCheckOptions>& variants);
 
 // The regression fitted on every run, at a new point (a value for each varying input): the
 // quantity (M, or L*f and H*f) and, when fieldsFile is given, the predicted alpha as a snapshot
