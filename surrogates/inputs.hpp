@@ -8,6 +8,8 @@ namespace mixload::surrogates {
 
 inline constexpr int kInputs = 7;
 using Point = std::array<double, kInputs>;
+// Each input's place in a Point (and in kInputSpecs).
+enum Input : int { kMuS = 0, kMuD, kI0, kD, kRho, kFeed, kRpm };
 
 struct InputSpec {
     const char* name;  // column name in tables and model files

@@ -129,7 +129,7 @@ private:
     void derive(const Point& x, double* v) const;  // the model inputs, physical units
     double distanceOf(const double* z) const;      // Prediction::outside from scaled inputs
     void scale(const Point& x, double* z) const;
-    double outputScale(const Point& x) const { return tf_.similarity ? x[4] : 1.0; }  // M = scale * model output
+    double outputScale(const Point& x) const { return tf_.similarity ? x[kRho] : 1.0; }  // M = scale * model output
     void setInputs();
     int dims() const { return static_cast<int>(in_.size()); }
     std::string kind_;

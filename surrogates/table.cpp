@@ -108,7 +108,7 @@ Table readTable(const std::filesystem::path& csv) {
             ++t.skipped;
             continue;
         }
-        if (deltaMu) r.x[1] += r.x[0];
+        if (deltaMu) r.x[kMuD] += r.x[kMuS];
         t.rows.push_back(r);
     }
     return t;
@@ -129,22 +129,22 @@ std::vector<Point> readInputs(const std::filesystem::path& csv) {
                                  " is not a number");
             }
         }
-        if (deltaMu) x[1] += x[0];
+        if (deltaMu) x[kMuD] += x[kMuS];
         out.push_back(x);
     }
     return out;
 }
 
 void requirePhysical(const Point& x) {
-    requireRange("mu-s", x[0], 0.0, 10.0);
-    if (!(x[1] > x[0]))
-        throw InputError("mu-d", formatNumber(x[1]), "greater than mu-s = " + formatNumber(x[0]));
-    requireRange("mu-d", x[1], 0.0, 10.0);
-    requirePositive("i0", x[2]);
-    requirePositive("d", x[3]);
-    requirePositive("rho", x[4]);
-    requirePositive("feed-kg-h", x[5]);
-    requirePositive("rpm", x[6]);
+    requireRange("mu-s", x[kMuS], 0.0, 10.0);
+    if (!(x[kMuD] > x[kMuS]))
+        throw InputError("mu-d", formatNumber(x[kMuD]), "greater than mu-s = " + formatNumber(x[kMuS]));
+    requireRange("mu-d", x[kMuD], 0.0, 10.0);
+    requirePositive("i0", x[kI0]);
+    requirePositive("d", x[kD]);
+    requirePositive("rho", x[kRho]);
+    requirePositive("feed-kg-h", x[kFeed]);
+    requirePositive("rpm", x[kRpm]);
 }
 
 }  // namespace mixload::surrogates

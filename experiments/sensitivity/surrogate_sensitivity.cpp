@@ -44,7 +44,7 @@ nlohmann::json surrogateSensitivity(const surrogates::Surrogate& model, const Pa
             if (slots[j] == 1) deltaMu = x[j];
             else p[static_cast<size_t>(slots[j])] = x[j];
         }
-        p[1] = p[0] + deltaMu;
+        p[surrogates::kMuD] = p[surrogates::kMuS] + deltaMu;
         const auto pred = model.predict(p, ws);
         ++calls;
         outside += !pred.inBox;

@@ -35,8 +35,8 @@ nlohmann::json compareFormulations(const surrogates::Surrogate& m, const std::st
     std::vector<std::pair<Point, Point>> pairs;
     for (const auto& [feed, rpm] : operatingPoints) {
         Point xa = base, xb = changed;
-        xa[5] = xb[5] = feed;
-        xa[6] = xb[6] = rpm;
+        xa[surrogates::kFeed] = xb[surrogates::kFeed] = feed;
+        xa[surrogates::kRpm] = xb[surrogates::kRpm] = rpm;
         surrogates::requirePhysical(xa);
         surrogates::requirePhysical(xb);
         if (!extrapolate) m.requireNearBox(xa, "base "), m.requireNearBox(xb, "new ");
@@ -45,7 +45,7 @@ nlohmann::json compareFormulations(const surrogates::Surrogate& m, const std::st
     auto ws = m.makeWorkspace();
     nlohmann::json points = nlohmann::json::array();
     for (const auto& [xa, xb] : pairs) {
-        const double feed = xa[5], rpm = xa[6];
+        const double feed = xa[surrogates::kFeed], rpm = xa[surrogates::kRpm];
         const auto pa = m.predict(xa, ws), pb = m.predict(xb, ws);
         // The two predictions share most of their error: the interval of the difference comes
         // from their joint distribution (the independent one beside it, for comparison).

@@ -41,6 +41,12 @@ std::vector<T> without(const std::vector<T>& v, Eigen::Index i) {
     return out;
 }
 
+// Where the reduced steady model runs: the point's feed and speed (valid: the mixer's zones are known).
+struct SteadyPoint {
+    bool valid = false;
+    double feedKgH = 0, rpm = 0;
+};
+
 // A campaign's finished runs with snapshots: their varying inputs X, last stored alpha F (cells x
 // runs) and recorded quantities Q, and what reads a quantity from a field.
 struct CampaignFields {
@@ -58,10 +64,8 @@ struct CampaignFields {
     std::string scene;
     FvMesh mesh;
     std::optional<CollapseShape> shape;
-    // Mixer: the frozen-rotor zones (empty when no kept file has them) and each run's feed and
-    // speed, for the reduced steady model.
+    // Mixer: the frozen-rotor zones (empty when no kept file has them), for the reduced steady model.
     std::vector<store::CaseFile::MrfZone> zones;
-    std::vector<double> feedKgH, rpm;
     nlohmann::json base;  // mixer: the campaign's base scene (what a point's parameters leave alone)
 
     // minRuns: a training campaign needs three runs and inputs that vary; a hold-out one, a run.
@@ -110,8 +114,6 @@ struct CampaignFields {
             for (size_t q = 0; q < c.qois.size(); ++q) c.Q(i, static_cast<Eigen::Index>(q)) = f.run.result.at(c.qois[q]).get<double>();
             c.rho.push_back(c.mixer ? f.bulkDensity : 0.0);
             if (c.mixer) c.physical.push_back(o.mixerInputs(c.base, f.run.params));
-            c.feedKgH.push_back(c.mixer ? c.physical.back()[5] : 0.0);
-            c.rpm.push_back(c.mixer ? c.physical.back()[6] : 0.0);
         }
         if (c.mixer) c.zones = c.source->mrfZones();
         // Runs kept before velocities were (or whose directories were gone by then) have none: the
@@ -144,6 +146,13 @@ struct CampaignFields {
         for (auto& z : turning) z.omega = rpmValue * 2 * M_PI / 60;
         const auto s = steadyPowder(mesh, fluxFromVelocity(mesh, U, boundaryU, turning, "outlet"), {{"inlet", 1.0}});
         return rho * clampFraction(s.alpha).dot(mesh.V);
+    }
+
+    // Where run i's reduced steady model runs: its feed and speed,
+    // when it kept a velocity and the mixer's zones are known.
+    SteadyPoint steadyPoint(size_t i) const {
+        if (!mixer || !hasU[i] || zones.empty()) return {};
+        return {true, physical[i][surrogates::kFeed], physical[i][surrogates::kRpm]};
     }
 
     // The inputs, velocities and physical points of the runs that kept a velocity, without run `except`.
@@ -270,12 +279,6 @@ struct Fitted {
     }
 };
 
-// Where the reduced steady model runs: the point's feed and speed (valid: the mixer's zones are known).
-struct SteadyPoint {
-    bool valid = false;
-    double feedKgH = 0, rpm = 0;
-};
-
 // One run predicted from the training runs by POD regression (its field, and the quantities read
 // from it) and by kriging of the quantities, against the run's own field and recorded quantities.
 nlohmann::json checkRun(const CampaignFields& c, const Fitted& fit, const Eigen::VectorXd& x, const surrogates::Point* p,
@@ -377,7 +380,7 @@ nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string
         const bool withU = c.hasU[r];
         auto row = checkRun(c, Fitted(c, t, o), c.X.row(i).transpose(), c.mixer ? &c.physical[r] : nullptr, c.F.col(i),
                             withU ? Eigen::VectorXd(c.U.col(i)) : Eigen::VectorXd(), c.Q.row(i), c.rho[r],
-                            {withU && !c.zones.empty(), c.feedKgH[r], c.rpm[r]}, tally);
+                            c.steadyPoint(r), tally);
         row["run"] = c.runs[static_cast<size_t>(i)].index;
         rows.push_back(row);
     }
@@ -433,7 +436,7 @@ std::vector<nlohmann::json> campaignRegressionHoldouts(const fs::path& ledger, c
             const bool withU = h.hasU[j];
             auto row = checkRun(c, fit, X.row(i).transpose(), c.mixer ? &h.physical[j] : nullptr, h.F.col(i),
                                 withU ? Eigen::VectorXd(h.U.col(i)) : Eigen::VectorXd(), h.Q.row(i), h.rho[j],
-                                {withU && !c.zones.empty(), h.feedKgH[j], h.rpm[j]}, tally);
+                                h.steadyPoint(j), tally);
             row["run"] = h.runs[j].index;
             rows.push_back(row);
         }
@@ -473,7 +476,7 @@ nlohmann::json campaignRegressionPredict(const fs::path& ledger, const std::stri
     }
     const Fitted fit(c, Training{c.X, c.F, c.Q, c.physical, c.velocityTraining()}, o);
     const surrogates::Point p = c.mixer ? o.mixerInputs(c.base, nlohmann::json(point)) : surrogates::Point{};
-    const double rho = c.mixer ? p[4] : c.rho.front();
+    const double rho = c.mixer ? p[surrogates::kRho] : c.rho.front();
     const auto t0 = Clock::now();
     const Eigen::VectorXd in = fit.input(x, &p);
     const Eigen::VectorXd alpha = fit.predictAlpha(in);
