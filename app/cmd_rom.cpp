@@ -533,9 +533,11 @@ void addRom(CLI::App& app, Action& action) {
                       << (rg->holdout.empty() ? std::string("each run left out in turn")
                                               : "checked on the " + std::to_string(j["holdout_runs"].get<int>()) + " runs of " + rg->holdout)
                       << "\n  final alpha error mean "
-                      << j["alpha_error_mean"].get<double>();
+                      << j["alpha_error_mean"].get<double>() << " (the modes' own, projection: " << j["alpha_projection_error_mean"].get<double>()
+                      << ")";
             if (!j["u_error_mean"].is_null()) {
-                std::cout << ", final U error mean " << j["u_error_mean"].get<double>();
+                std::cout << ", final U error mean " << j["u_error_mean"].get<double>() << " (projection "
+                          << j["u_projection_error_mean"].get<double>() << ")";
                 if (j["velocity"] != "every run") std::cout << " (" << j["velocity"].get<std::string>() << ")";
             } else {
                 std::cout << " (U: " << j["velocity"].get<std::string>() << ")";

@@ -199,6 +199,7 @@ constexpr Eigen::Index kMinVelocityRuns = 2;
 struct Tally {
     std::vector<double> reg, krig, field, regMax, krigMax;
     double alpha = 0, u = 0, seconds = 0;
+    double alphaProjected = 0, uProjected = 0;  // the modes' own errors (projection)
     int runs = 0, uRuns = 0;
     // The reduced steady model on the predicted and on the run's own velocity.
     double steady = 0, steadyMax = 0, steadyOwn = 0, steadySeconds = 0;
@@ -245,8 +246,14 @@ struct Fitted {
         return (F.array().max(0.0) + floor).log().matrix();
     }
     // The powder fraction at a run's regression inputs, back in [0, 1].
-    Eigen::VectorXd predictAlpha(const Eigen::VectorXd& in) const {
-        const Eigen::VectorXd r = alpha.predict(in);
+    Eigen::VectorXd predictAlpha(const Eigen::VectorXd& in) const { return fromRegressed(alpha.predict(in)); }
+    // A run's own powder fraction projected on the modes: the best any coefficients could do, the
+    // lower bound of the regression's field error.
+    Eigen::VectorXd projectAlpha(const Eigen::VectorXd& alphaRun) const {
+        const Eigen::VectorXd r = toRegressed(alphaRun);
+        return fromRegressed(alpha.basis().reconstruct(alpha.basis().project(r)));
+    }
+    Eigen::VectorXd fromRegressed(const Eigen::VectorXd& r) const {
         if (!logField) return r;
         return (r.array().exp() - floor).max(0.0).min(1.0).matrix();
     }
@@ -290,17 +297,26 @@ nlohmann::json checkRun(const CampaignFields& c, const Fitted& fit, const Eigen:
     const auto q = c.quantities(alpha, rho);
     tally.seconds += secondsSince(t0);
     const auto qStored = c.quantities(alphaRun, rho);
-    const double aErr = std::sqrt((alpha - alphaRun).cwiseAbs2().dot(c.mesh.V) / alphaRun.cwiseAbs2().dot(c.mesh.V));
+    const auto relativeL2 = [](const Eigen::VectorXd& a, const Eigen::VectorXd& b, const Eigen::VectorXd& w) {
+        return std::sqrt((a - b).cwiseAbs2().dot(w) / b.cwiseAbs2().dot(w));
+    };
+    const double aErr = relativeL2(alpha, alphaRun, c.mesh.V);
+    const double aProj = relativeL2(fit.projectAlpha(alphaRun), alphaRun, c.mesh.V);
     tally.alpha += aErr;
+    tally.alphaProjected += aProj;
     ++tally.runs;
-    nlohmann::json row{{"alpha_error", aErr}, {"modes", fit.alpha.modes()}};
+    nlohmann::json row{{"alpha_error", aErr}, {"alpha_projection_error", aProj}, {"modes", fit.alpha.modes()}};
     for (size_t k = 0; k < c.inputs.size(); ++k) row[c.inputs[k]] = x[static_cast<Eigen::Index>(k)];
     nlohmann::json steadyRow;
     if (fit.U && uRun.size() > 0) {
         const Eigen::VectorXd u = fit.U->predict(in);
-        const double e = std::sqrt((u - uRun).cwiseAbs2().dot(c.wU) / uRun.cwiseAbs2().dot(c.wU));
+        const double e = relativeL2(u, uRun, c.wU);
+        const auto& b = fit.U->basis();
+        const double eProj = relativeL2(b.reconstruct(b.project(uRun)), uRun, c.wU);
         row["u_error"] = e;
+        row["u_projection_error"] = eProj;
         tally.u += e;
+        tally.uProjected += eProj;
         ++tally.uRuns;
         if (steady.valid) {
             const auto t1 = Clock::now();
@@ -358,7 +374,9 @@ nlohmann::json summarise(const CampaignFields& c, const Tally& t, const Regressi
             {"replicates_left_out", c.replicates},
             {"cells", c.mesh.cells},
             {"alpha_error_mean", t.alpha / n},
+            {"alpha_projection_error_mean", t.alphaProjected / n},
             {"u_error_mean", t.uRuns > 0 ? nlohmann::json(t.u / t.uRuns) : nlohmann::json()},
+            {"u_projection_error_mean", t.uRuns > 0 ? nlohmann::json(t.uProjected / t.uRuns) : nlohmann::json()},
             {"u_error_runs", t.uRuns},
             {"velocity", t.uRuns == 0 ? "fewer than " + std::to_string(kMinVelocityRuns) + " training runs kept one (alpha only)"
                          : t.uRuns == t.runs ? std::string("every run")
