@@ -549,6 +549,11 @@ void addRom(CLI::App& app, Action& action) {
                           << 100 * s["kriging_mean_abs_error"].get<double>() << "% (max "
                           << 100 * s["kriging_max_abs_error"].get<double>() << "%) (the stored field itself "
                           << 100 * s["stored_field_mean_abs_error"].get<double>() << "%)\n";
+            for (const auto& [q, s] : j["summary"].items())
+                if (s.contains("pod_minus_kriging_ci90"))
+                    std::cout << "  " << q << ": POD regression minus kriging, paired, " << 100 * s["pod_minus_kriging_mean_abs_error"].get<double>()
+                              << " points (90% bootstrap interval " << 100 * s["pod_minus_kriging_ci90"][0].get<double>() << " .. "
+                              << 100 * s["pod_minus_kriging_ci90"][1].get<double>() << ")\n";
             if (const auto& l = j["summary"].value("loading_kg", nlohmann::json::object()); l.contains("steady_model_mean_abs_error"))
                 std::cout << "  loading_kg: mean |error| steady transport model " << 100 * l["steady_model_mean_abs_error"].get<double>()
                           << "% (max " << 100 * l["steady_model_max_abs_error"].get<double>() << "%; on the runs' own U "

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#include <random>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -34,20 +33,12 @@ struct ErrorStats {
     // null when there is nothing to report
     nlohmann::json mean() const { return n ? nlohmann::json(sum / static_cast<double>(n)) : nlohmann::json(); }
     nlohmann::json maxJson() const { return n ? nlohmann::json(max) : nlohmann::json(); }
-    // 90% bootstrap interval of the mean relative error (percentiles of 2000 resampled means, a
-    // fixed seed: the same runs give the same interval). With a few dozen runs and heavy tails the
+    // 90% bootstrap interval of the mean relative error. With a few dozen runs and heavy tails the
     // mean alone cannot tell two models apart; the interval says whether it can.
     nlohmann::json meanInterval90() const {
         if (n < 2) return nlohmann::json();
-        std::mt19937 gen(1);
-        constexpr int kResamples = 2000;
-        std::vector<double> means(kResamples);
-        for (auto& m : means) {
-            double s = 0;
-            for (std::size_t i = 0; i < n; ++i) s += errors[gen() % n];
-            m = s / static_cast<double>(n);
-        }
-        return nlohmann::json::array({percentile(means, 0.05), percentile(means, 0.95)});
+        const auto ci = bootstrapMeanInterval90(errors);
+        return nlohmann::json::array({ci[0], ci[1]});
     }
     nlohmann::json coverage() const {
         return withInterval ? nlohmann::json(static_cast<double>(covered) / static_cast<double>(withInterval))

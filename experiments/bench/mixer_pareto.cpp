@@ -201,6 +201,27 @@ nlohmann::json runMixerPareto(const MixerPareto& b) {
         csv << '\n';
         rows.push_back(row);
     }
+    // Each method against the loading surrogate on the runs both answered, run by run: whether the
+    // hold-out can tell them apart (the paired difference's 90% bootstrap interval).
+    const std::string krig = "kriging (loading surrogate)";
+    nlohmann::json paired = nlohmann::json::array();
+    if (answer.count(krig)) {
+        md << "\n| method, paired with " << krig << " | runs | difference of the mean relative errors [points] | 90% bootstrap interval |\n|---|---|---|---|\n";
+        for (const auto& [name, a] : answer) {
+            if (name == krig) continue;
+            std::vector<double> d;
+            for (const auto& [i, m] : a)
+                if (const auto k = answer[krig].find(i); k != answer[krig].end())
+                    d.push_back(std::abs(m / ref.runs.at(i).m - 1) - std::abs(k->second / ref.runs.at(i).m - 1));
+            if (d.size() < 2) continue;
+            double mean = 0;
+            for (const double v : d) mean += v / static_cast<double>(d.size());
+            const auto ci = bootstrapMeanInterval90(d);
+            paired.push_back({{"method", name}, {"runs", d.size()}, {"mean_abs_error_minus_kriging", mean}, {"ci90", {ci[0], ci[1]}}});
+            md << "| " << name << " | " << d.size() << " | " << formatNumber(std::round(mean * 1e3) / 10) << " | "
+               << formatNumber(std::round(ci[0] * 1e3) / 10) << " .. " << formatNumber(std::round(ci[1] * 1e3) / 10) << " |\n";
+        }
+    }
     fs::create_directories(b.out);
     writeFileAtomic(b.out / "runs.md", md.str());
     writeFileAtomic(b.out / "runs.csv", csv.str());
@@ -224,6 +245,7 @@ nlohmann::json runMixerPareto(const MixerPareto& b) {
                        {"train_core_seconds", train.coreSeconds},
                        {"surrogate_noise", noise},
                        {"runs", rows},
+                       {"paired_with_kriging", paired},
                        {"runs_table", (b.out / "runs.md").string()},
                        {"notes", notes}};
     for (const auto& c : b.coarse) out["coarse"].push_back(c.name);

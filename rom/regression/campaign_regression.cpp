@@ -8,6 +8,7 @@
 
 #include "common/clock.hpp"
 #include "common/input_error.hpp"
+#include "common/stats.hpp"
 #include "kriging/kriging.hpp"
 #include "kriging/unit_box.hpp"
 #include "model.hpp"
@@ -198,13 +199,14 @@ constexpr Eigen::Index kMinVelocityRuns = 2;
 // Running means and maxima over the checked runs.
 struct Tally {
     std::vector<double> reg, krig, field, regMax, krigMax;
+    std::vector<std::vector<double>> regMinusKrig;  // per quantity, run by run: |error| of the regression minus kriging's
     double alpha = 0, u = 0, seconds = 0;
     double alphaProjected = 0, uProjected = 0;  // the modes' own errors (projection)
     int runs = 0, uRuns = 0;
     // The reduced steady model on the predicted and on the run's own velocity.
     double steady = 0, steadyMax = 0, steadyOwn = 0, steadySeconds = 0;
     int steadyRuns = 0;
-    explicit Tally(size_t q) : reg(q), krig(q), field(q), regMax(q), krigMax(q) {}
+    explicit Tally(size_t q) : reg(q), krig(q), field(q), regMax(q), krigMax(q), regMinusKrig(q) {}
 };
 
 // The models a check fits on its training runs. A mixer campaign with five runs or more: the
@@ -247,8 +249,9 @@ struct Fitted {
     }
     // The powder fraction at a run's regression inputs, back in [0, 1].
     Eigen::VectorXd predictAlpha(const Eigen::VectorXd& in) const { return fromRegressed(alpha.predict(in)); }
-    // A run's own powder fraction projected on the modes: the best any coefficients could do, the
-    // lower bound of the regression's field error.
+    // A run's own powder fraction projected on the modes: what the modes themselves miss. Of alpha
+    // it bounds the regression's field error from below; of ln alpha it is a projection in the
+    // logarithm, near that bound but not one.
     Eigen::VectorXd projectAlpha(const Eigen::VectorXd& alphaRun) const {
         const Eigen::VectorXd r = toRegressed(alphaRun);
         return fromRegressed(alpha.basis().reconstruct(alpha.basis().project(r)));
@@ -347,6 +350,7 @@ nlohmann::json checkRun(const CampaignFields& c, const Fitted& fit, const Eigen:
                           {"kriging_error", (kq - truth) / truth}};
         const double er = std::abs(q[k] - truth) / std::abs(truth), ek = std::abs(kq - truth) / std::abs(truth);
         tally.reg[k] += er, tally.krig[k] += ek;
+        tally.regMinusKrig[k].push_back(er - ek);
         tally.regMax[k] = std::max(tally.regMax[k], er), tally.krigMax[k] = std::max(tally.krigMax[k], ek);
         tally.field[k] += std::abs(qStored[k] - truth) / std::abs(truth);
     }
@@ -363,6 +367,13 @@ nlohmann::json summarise(const CampaignFields& c, const Tally& t, const Regressi
                               {"kriging_mean_abs_error", t.krig[k] / n},
                               {"kriging_max_abs_error", t.krigMax[k]},
                               {"stored_field_mean_abs_error", t.field[k] / n}};
+    // Whether the runs can tell the two apart: the paired difference's 90% bootstrap interval.
+    for (size_t k = 0; k < c.qois.size(); ++k)
+        if (t.regMinusKrig[k].size() >= 2) {
+            const auto ci = bootstrapMeanInterval90(t.regMinusKrig[k]);
+            summary[c.qois[k]]["pod_minus_kriging_mean_abs_error"] = (t.reg[k] - t.krig[k]) / n;
+            summary[c.qois[k]]["pod_minus_kriging_ci90"] = {ci[0], ci[1]};
+        }
     if (t.steadyRuns > 0)
         summary["loading_kg"]["steady_model_mean_abs_error"] = t.steady / t.steadyRuns,
         summary["loading_kg"]["steady_model_max_abs_error"] = t.steadyMax,

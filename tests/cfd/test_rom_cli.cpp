@@ -176,6 +176,14 @@ TEST(RomRegression, LeavesEachCampaignRunOutAndPredictsIt) {
     EXPECT_GE(hs["pod_regression_max_abs_error"].get<double>(), hs["pod_regression_mean_abs_error"].get<double>());
     EXPECT_LT(hs["stored_field_mean_abs_error"].get<double>(), 1e-3);
     EXPECT_TRUE(std::isfinite(ho["u_error_mean"].get<double>()));
+    // The modes' own error bounds the regression's from below (a projection is the best fit).
+    EXPECT_LE(ho["alpha_projection_error_mean"].get<double>(), ho["alpha_error_mean"].get<double>() + 1e-12);
+    EXPECT_LE(ho["u_projection_error_mean"].get<double>(), ho["u_error_mean"].get<double>() + 1e-12);
+    // The paired difference with kriging lies inside its own bootstrap interval.
+    const double diff = hs["pod_minus_kriging_mean_abs_error"].get<double>();
+    EXPECT_NEAR(diff, hs["pod_regression_mean_abs_error"].get<double>() - hs["kriging_mean_abs_error"].get<double>(), 1e-12);
+    EXPECT_LE(hs["pod_minus_kriging_ci90"][0].get<double>(), diff + 1e-12);
+    EXPECT_GE(hs["pod_minus_kriging_ci90"][1].get<double>(), diff - 1e-12);
     // A hold-out on another mesh is refused, naming it.
     snapshotCampaign(dir, "coarse",
                      "scene = \"collapse\"\n[mu_s]\nmin = 0.85\nmax = 1.25\nunit = \"1\"\n", {"--n", "1", "--mesh", "6"});

@@ -95,6 +95,16 @@ TEST(MixerPareto, PairsTheHoldOutWithItsCoarseTwinAndRanksTheMethods) {
     EXPECT_FALSE(coarse["front"].get<bool>());
     EXPECT_TRUE(by["full run, 1 cm (reference, 5)"]["front"].get<bool>());
     EXPECT_GE(k["offline_seconds"].get<double>(), 16 * 50.0);
+    // Paired with kriging (within 0.1% here), the coarse twin is 20 points worse on every run, so
+    // its bootstrap interval is 20 points wide at most 0.1.
+    std::map<std::string, nlohmann::json> paired;
+    for (const auto& p : j["paired_with_kriging"]) paired[p["method"].get<std::string>()] = p;
+    ASSERT_TRUE(paired.count("full run, 2 cm, hold2cm")) << j["paired_with_kriging"].dump(1);
+    const auto& pc = paired["full run, 2 cm, hold2cm"];
+    EXPECT_EQ(pc["runs"], 5);
+    EXPECT_NEAR(pc["mean_abs_error_minus_kriging"].get<double>(), 0.2, 1e-3);
+    EXPECT_NEAR(pc["ci90"][0].get<double>(), 0.2, 1e-3);
+    EXPECT_NEAR(pc["ci90"][1].get<double>(), 0.2, 1e-3);
     // Without snapshots the POD regression (both fields, read once) says why it is missing.
     ASSERT_EQ(j["notes"].size(), 1u);
     EXPECT_NE(j["notes"][0].get<std::string>().find("snapshots"), std::string::npos) << j["notes"][0];
