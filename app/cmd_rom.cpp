@@ -543,6 +543,10 @@ void addRom(CLI::App& app, Action& action) {
                 std::cout << " (U: " << j["velocity"].get<std::string>() << ")";
             }
             std::cout << ", " << 1e3 * j["predict_seconds"].get<double>() << " ms per prediction\n";
+            if (j["window_mean_runs"].get<int>() > 0)
+                std::cout << "  on the " << j["window_mean_runs"] << " runs whose final window is stored: the final alpha lies "
+                          << j["alpha_fluctuation_mean"].get<double>() << " from the window's mean alpha (the flow's own fluctuation), "
+                          << "the prediction " << j["alpha_error_to_window_mean_mean"].get<double>() << "\n";
             for (const auto& [q, s] : j["summary"].items())
                 std::cout << "  " << q << ": mean |error| POD regression " << 100 * s["pod_regression_mean_abs_error"].get<double>()
                           << "% (max " << 100 * s["pod_regression_max_abs_error"].get<double>() << "%), kriging "

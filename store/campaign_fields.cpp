@@ -6,6 +6,7 @@
 #include <map>
 #include <optional>
 
+#include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
 #include "store/snapshot_file.hpp"
 
@@ -41,6 +42,23 @@ bool hasVelocity(const SnapshotFile& f) {
 }
 
 bool hasSnapshots(const LedgerRun& r) { return !r.runDir.empty() && fs::exists(fs::path(r.runDir) / "snapshots.h5"); }
+
+// The mean powder fraction over the stored times of the run's final window (result.json's
+// "window", the steady test's), with how many times it averages; none below three.
+std::pair<Eigen::VectorXd, int> windowMean(const SnapshotFile& f, const LedgerRun& r) {
+    const fs::path result = fs::path(r.runDir) / "result.json";
+    if (!fs::exists(result)) return {};
+    const auto j = nlohmann::json::parse(readFile(result), nullptr, false);
+    if (j.is_discarded() || !j.contains("window") || !j["window"].is_number()) return {};
+    const auto& times = f.times();
+    const double from = times.back() - j["window"].get<double>();
+    Eigen::VectorXd sum = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(f.cells()));
+    int n = 0;
+    for (size_t i = 0; i < times.size(); ++i)
+        if (times[i] >= from) sum += f.column("alpha", i), ++n;
+    if (n < 3) return {};
+    return {sum / n, n};
+}
 
 }  // namespace
 
@@ -142,7 +160,9 @@ FinalFields campaignFinalFields(const fs::path& ledger, const std::string& campa
             const SnapshotFile f(fs::path(r.runDir) / "snapshots.h5");
             sameMesh(f);
             const size_t last = f.times().size() - 1;
-            out.runs.push_back({r, f.column("alpha", last), hasVelocity(f) ? f.column("U", last) : Eigen::VectorXd(), bulkDensityOf(f)});
+            auto [mean, times] = windowMean(f, r);
+            out.runs.push_back({r, f.column("alpha", last), hasVelocity(f) ? f.column("U", last) : Eigen::VectorXd(), bulkDensityOf(f),
+                                std::move(mean), times});
         } else if (const auto it = kept.byIndex.find(r.index); it != kept.byIndex.end()) {
             sameMesh(*kept.file);
             const bool withU = it->second.second.value("velocity", false);

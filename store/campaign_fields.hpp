@@ -30,6 +30,12 @@ struct FinalField {
     Eigen::VectorXd alpha;     // the last stored powder fraction, one value per cell
     Eigen::VectorXd U;         // the velocity at the same time, 3 per cell; empty when not kept
     double bulkDensity = 0;    // [kg/m3] (mixer runs; 0 for a collapse)
+    // The powder fraction averaged over the stored times of the run's final window (the steady
+    // test's, which its loading_kg averages), when the run directory's snapshots hold three or more
+    // of them; else empty. A steady mixer still churns: how far the last field lies from this
+    // mean is the field's own fluctuation, which no prediction of "the" steady field can beat.
+    Eigen::VectorXd alphaWindowMean;
+    int windowTimes = 0;
 };
 
 struct FinalFields {

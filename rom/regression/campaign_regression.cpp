@@ -57,6 +57,7 @@ struct CampaignFields {
     Eigen::MatrixXd X, F, Q;
     Eigen::MatrixXd U;        // 3 cells x runs: the velocities (NaN columns for runs that kept none)
     std::vector<bool> hasU;   // which runs kept one
+    std::vector<Eigen::VectorXd> alphaMean;  // each run's alpha over its final window (empty: not stored)
     Eigen::VectorXd wU;       // their weights: each cell's volume for each component
     std::vector<double> rho;  // mixer: each run's bulk density
     std::vector<surrogates::Point> physical;  // mixer: each run's seven inputs (surrogates' order)
@@ -112,6 +113,7 @@ struct CampaignFields {
             const auto& f = finals.runs[static_cast<size_t>(i)];
             for (Eigen::Index k = 0; k < d; ++k) c.X(i, k) = f.run.params.at(c.inputs[static_cast<size_t>(k)]).get<double>();
             c.F.col(i) = f.alpha;
+            c.alphaMean.push_back(f.alphaWindowMean);
             for (size_t q = 0; q < c.qois.size(); ++q) c.Q(i, static_cast<Eigen::Index>(q)) = f.run.result.at(c.qois[q]).get<double>();
             c.rho.push_back(c.mixer ? f.bulkDensity : 0.0);
             if (c.mixer) c.physical.push_back(o.mixerInputs(c.base, f.run.params));
@@ -202,6 +204,10 @@ struct Tally {
     std::vector<std::vector<double>> regMinusKrig;  // per quantity, run by run: |error| of the regression minus kriging's
     double alpha = 0, u = 0, seconds = 0;
     double alphaProjected = 0, uProjected = 0;  // the modes' own errors (projection)
+    // Runs whose final window's mean field is known: the final field's distance from it (the
+    // flow's own fluctuation) and the prediction's.
+    double fluctuation = 0, errorToMean = 0;
+    int meanRuns = 0;
     int runs = 0, uRuns = 0;
     // The reduced steady model on the predicted and on the run's own velocity.
     double steady = 0, steadyMax = 0, steadyOwn = 0, steadySeconds = 0;
@@ -292,7 +298,7 @@ struct Fitted {
 // One run predicted from the training runs by POD regression (its field, and the quantities read
 // from it) and by kriging of the quantities, against the run's own field and recorded quantities.
 nlohmann::json checkRun(const CampaignFields& c, const Fitted& fit, const Eigen::VectorXd& x, const surrogates::Point* p,
-                        const Eigen::VectorXd& alphaRun, const Eigen::VectorXd& uRun, const Eigen::RowVectorXd& qRun, double rho,
+                        const Eigen::VectorXd& alphaRun, const Eigen::VectorXd& alphaMean, const Eigen::VectorXd& uRun, const Eigen::RowVectorXd& qRun, double rho,
                         const SteadyPoint& steady, Tally& tally) {
     const auto t0 = Clock::now();
     const Eigen::VectorXd in = fit.input(x, p);
@@ -309,6 +315,12 @@ nlohmann::json checkRun(const CampaignFields& c, const Fitted& fit, const Eigen:
     tally.alphaProjected += aProj;
     ++tally.runs;
     nlohmann::json row{{"alpha_error", aErr}, {"alpha_projection_error", aProj}, {"modes", fit.alpha.modes()}};
+    if (alphaMean.size() == alphaRun.size()) {
+        const double fl = relativeL2(alphaRun, alphaMean, c.mesh.V), toMean = relativeL2(alpha, alphaMean, c.mesh.V);
+        row["alpha_fluctuation"] = fl;
+        row["alpha_error_to_window_mean"] = toMean;
+        tally.fluctuation += fl, tally.errorToMean += toMean, ++tally.meanRuns;
+    }
     for (size_t k = 0; k < c.inputs.size(); ++k) row[c.inputs[k]] = x[static_cast<Eigen::Index>(k)];
     nlohmann::json steadyRow;
     if (fit.U && uRun.size() > 0) {
@@ -388,6 +400,9 @@ nlohmann::json summarise(const CampaignFields& c, const Tally& t, const Regressi
             {"alpha_projection_error_mean", t.alphaProjected / n},
             {"u_error_mean", t.uRuns > 0 ? nlohmann::json(t.u / t.uRuns) : nlohmann::json()},
             {"u_projection_error_mean", t.uRuns > 0 ? nlohmann::json(t.uProjected / t.uRuns) : nlohmann::json()},
+            {"alpha_fluctuation_mean", t.meanRuns > 0 ? nlohmann::json(t.fluctuation / t.meanRuns) : nlohmann::json()},
+            {"alpha_error_to_window_mean_mean", t.meanRuns > 0 ? nlohmann::json(t.errorToMean / t.meanRuns) : nlohmann::json()},
+            {"window_mean_runs", t.meanRuns},
             {"u_error_runs", t.uRuns},
             {"velocity", t.uRuns == 0 ? "fewer than " + std::to_string(kMinVelocityRuns) + " training runs kept one (alpha only)"
                          : t.uRuns == t.runs ? std::string("every run")
@@ -407,7 +422,7 @@ nlohmann::json campaignRegressionCheck(const fs::path& ledger, const std::string
         Training t{without(c.X, i), without(c.F.transpose(), i).transpose(), without(c.Q, i), without(c.physical, i),
                    c.velocityTraining(i)};
         const bool withU = c.hasU[r];
-        auto row = checkRun(c, Fitted(c, t, o), c.X.row(i).transpose(), c.mixer ? &c.physical[r] : nullptr, c.F.col(i),
+        auto row = checkRun(c, Fitted(c, t, o), c.X.row(i).transpose(), c.mixer ? &c.physical[r] : nullptr, c.F.col(i), c.alphaMean[r],
                             withU ? Eigen::VectorXd(c.U.col(i)) : Eigen::VectorXd(), c.Q.row(i), c.rho[r],
                             c.steadyPoint(r), tally);
         row["run"] = c.runs[static_cast<size_t>(i)].index;
@@ -463,7 +478,7 @@ std::vector<nlohmann::json> campaignRegressionHoldouts(const fs::path& ledger, c
         for (size_t j = 0; j < h.runs.size(); ++j) {
             const auto i = static_cast<Eigen::Index>(j);
             const bool withU = h.hasU[j];
-            auto row = checkRun(c, fit, X.row(i).transpose(), c.mixer ? &h.physical[j] : nullptr, h.F.col(i),
+            auto row = checkRun(c, fit, X.row(i).transpose(), c.mixer ? &h.physical[j] : nullptr, h.F.col(i), h.alphaMean[j],
                                 withU ? Eigen::VectorXd(h.U.col(i)) : Eigen::VectorXd(), h.Q.row(i), h.rho[j],
                                 h.steadyPoint(j), tally);
             row["run"] = h.runs[j].index;

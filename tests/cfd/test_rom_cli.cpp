@@ -11,6 +11,7 @@
 
 #include "cli_harness.hpp"
 #include "rom/pod/pod_model.hpp"
+#include "store/campaign_fields.hpp"
 #include "store/snapshot_file.hpp"
 
 using namespace mixload;
@@ -275,6 +276,24 @@ TEST(RomRegression, MixerCampaignReadsItsLoadingFromTheField) {
     // The reduced steady model (steady powder transport on the regressed velocity) reports beside
     // them: the kept fields carry the frozen rotor's zone it needs.
     EXPECT_FALSE(store::SnapshotFile(dir / "m" / "fields.h5").mrfZones().empty());
+    // Each run's window-mean field is the plain mean of its stored times in the final window
+    // (result.json), counted here from the snapshot file itself; the final field's distance from
+    // it is the row's alpha_fluctuation.
+    int withMean = 0;
+    for (const auto& f : store::campaignFinalFields(dir / "m" / "ledger.sqlite", "m").runs) {
+        const store::SnapshotFile snaps(fs::path(f.run.runDir) / "snapshots.h5");
+        const double window = nlohmann::json::parse(std::ifstream(fs::path(f.run.runDir) / "result.json"))["window"].get<double>();
+        Eigen::VectorXd sum = Eigen::VectorXd::Zero(f.alpha.size());
+        int n = 0;
+        for (size_t i = 0; i < snaps.times().size(); ++i)
+            if (snaps.times()[i] >= snaps.times().back() - window) sum += snaps.column("alpha", i), ++n;
+        EXPECT_EQ(f.windowTimes, n >= 3 ? n : 0);
+        if (n < 3) continue;
+        ++withMean;
+        EXPECT_LT((f.alphaWindowMean - sum / n).norm(), 1e-12 * sum.norm());
+    }
+    // (0.05 s runs store one time: their mean is empty, as it must be; the campaigns of docs/reduced-models.md have it.)
+    EXPECT_EQ(j["window_mean_runs"], withMean);
     ASSERT_TRUE(s.contains("steady_model_mean_abs_error")) << s.dump();
     EXPECT_TRUE(std::isfinite(s["steady_model_mean_abs_error"].get<double>()));
     EXPECT_TRUE(std::isfinite(j["rows"][0]["loading_kg"]["steady_model_on_run_u"].get<double>()));
