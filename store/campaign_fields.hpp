@@ -33,7 +33,8 @@ struct FinalField {
     // The powder fraction averaged over the stored times of the run's final window (the steady
     // test's, which its loading_kg averages), when the run directory's snapshots hold three or more
     // of them; else empty. A steady mixer still churns: how far the last field lies from this
-    // mean is the field's own fluctuation, which no prediction of "the" steady field can beat.
+    // mean is the field's own fluctuation: a steady prediction compared with one instant is off by
+    // about that much however good it is.
     Eigen::VectorXd alphaWindowMean;
     int windowTimes = 0;
 };
