@@ -36,10 +36,11 @@ double bulkDensityOf(const CaseFile& f) {
     return p.contains("material.bulk_density_kg_m3") ? p["material.bulk_density_kg_m3"].get<double>() : 0.0;
 }
 
-bool hasVelocity(const SnapshotFile& f) {
+bool hasField(const SnapshotFile& f, const std::string& name) {
     const auto names = f.fields();
-    return std::find(names.begin(), names.end(), "U") != names.end();
+    return std::find(names.begin(), names.end(), name) != names.end();
 }
+bool hasVelocity(const SnapshotFile& f) { return hasField(f, "U"); }
 
 bool hasSnapshots(const LedgerRun& r) { return !r.runDir.empty() && fs::exists(fs::path(r.runDir) / "snapshots.h5"); }
 
@@ -68,12 +69,13 @@ nlohmann::json keepCampaignFields(const fs::path& ledger, const std::string& cam
     const auto runs = finishedCampaignRuns(ledger, campaign);
     const Kept kept = readKept(ledger);
     const bool keptU = kept.file && hasVelocity(*kept.file);
+    const bool keptMean = kept.file && hasField(*kept.file, "alpha_window_mean");
     std::vector<double> indices;
-    std::vector<Eigen::VectorXd> alphas, velocities;
+    std::vector<Eigen::VectorXd> alphas, velocities, means;
     nlohmann::json records = nlohmann::json::array();
     std::optional<SnapshotFile> source;
     if (kept.file) source.emplace(kept.file->path());
-    int added = 0, upgraded = 0;
+    int added = 0, upgraded = 0, meansAdded = 0;
     // The MRF zones travel with the mesh (the reduced steady model needs them): a kept file written
     // before they were kept takes them from any run directory whose snapshots have them.
     bool zonesAdded = false;
@@ -91,11 +93,15 @@ nlohmann::json keepCampaignFields(const fs::path& ledger, const std::string& cam
         const auto it = kept.byIndex.find(r.index);
         const bool inKept = it != kept.byIndex.end();
         const bool keptWithU = inKept && it->second.second.value("velocity", false);
-        if (inKept && (keptWithU || !hasSnapshots(r))) {
+        const bool keptWithMean = inKept && it->second.second.value("window_times", 0) > 0;
+        // A kept run is read again from its directory only for what the file lacks and the directory has.
+        if (inKept && (!hasSnapshots(r) || (keptWithU && (keptWithMean || it->second.second.contains("window_times"))))) {
             indices.push_back(r.index);
             alphas.push_back(kept.file->column("alpha", it->second.first));
             velocities.push_back(keptU ? kept.file->column("U", it->second.first)
                                        : Eigen::VectorXd::Constant(3 * cells(), std::nan("")));
+            means.push_back(keptMean && keptWithMean ? kept.file->column("alpha_window_mean", it->second.first)
+                                                     : Eigen::VectorXd::Constant(cells(), std::nan("")));
             records.push_back(it->second.second);
             continue;
         }
@@ -107,34 +113,40 @@ nlohmann::json keepCampaignFields(const fs::path& ledger, const std::string& cam
             throw InputError("campaign", campaign, "runs on one mesh (" + f.path().string() + " differs)");
         const size_t last = f.times().size() - 1;
         const bool withU = hasVelocity(f);
+        auto [mean, windowTimes] = windowMean(f, r);
         indices.push_back(r.index);
         alphas.push_back(f.column("alpha", last));
         velocities.push_back(withU ? f.column("U", last) : Eigen::VectorXd::Constant(3 * cells(), std::nan("")));
+        means.push_back(windowTimes > 0 ? mean : Eigen::VectorXd::Constant(cells(), std::nan("")));
         records.push_back({{"index", r.index},
                            {"scene_hash", r.params.value("scene_hash", std::string())},
                            {"time_s", f.times().back()},
                            {"bulk_density_kg_m3", bulkDensityOf(f)},
-                           {"velocity", withU}});
-        // A kept run re-read without finding a velocity changes nothing: no rewrite for it.
+                           {"velocity", withU},
+                           {"window_times", windowTimes}});
+        // A kept run re-read without finding anything new changes nothing: no rewrite for it.
         if (!inKept) ++added;
-        else if (withU) ++upgraded;
+        else if (withU && !keptWithU) ++upgraded;
+        else if (windowTimes > 0 && !keptWithMean) ++meansAdded;
     }
     const fs::path file = campaignFieldsFile(ledger);
     if (alphas.empty()) throw InputError("campaign", campaign, "finished runs with snapshots to keep (campaign run --snapshots)");
-    if (added + upgraded > 0 || zonesAdded) {
+    if (added + upgraded + meansAdded > 0 || zonesAdded) {
         const auto n = static_cast<Eigen::Index>(alphas.size());
-        Eigen::MatrixXd alpha(alphas.front().size(), n), U(3 * alphas.front().size(), n);
+        Eigen::MatrixXd alpha(alphas.front().size(), n), U(3 * alphas.front().size(), n), mean(alphas.front().size(), n);
         for (Eigen::Index i = 0; i < n; ++i) {
             alpha.col(i) = alphas[static_cast<size_t>(i)];
             U.col(i) = velocities[static_cast<size_t>(i)];
+            mean.col(i) = means[static_cast<size_t>(i)];
         }
-        writeDerivedSnapshots(*source, indices, {{"alpha", alpha}, {"U", U}},
+        writeDerivedSnapshots(*source, indices, {{"alpha", alpha}, {"U", U}, {"alpha_window_mean", mean}},
                               {{"kind", "campaign final fields"},
                                {"campaign", campaign},
                                {"kept_runs", records.dump()}},
                               file);
     }
     return {{"file", file.string()}, {"kept", alphas.size()}, {"added", added}, {"velocity_added", upgraded},
+            {"window_mean_added", meansAdded},
             {"zones_added", zonesAdded}};
 }
 
@@ -166,9 +178,13 @@ FinalFields campaignFinalFields(const fs::path& ledger, const std::string& campa
         } else if (const auto it = kept.byIndex.find(r.index); it != kept.byIndex.end()) {
             sameMesh(*kept.file);
             const bool withU = it->second.second.value("velocity", false);
+            const int windowTimes = it->second.second.value("window_times", 0);
+            const bool withMean = windowTimes > 0 && hasField(*kept.file, "alpha_window_mean");
             out.runs.push_back({r, kept.file->column("alpha", it->second.first),
                                 withU ? kept.file->column("U", it->second.first) : Eigen::VectorXd(),
-                                it->second.second.value("bulk_density_kg_m3", 0.0)});
+                                it->second.second.value("bulk_density_kg_m3", 0.0),
+                                withMean ? kept.file->column("alpha_window_mean", it->second.first) : Eigen::VectorXd(),
+                                withMean ? windowTimes : 0});
         }
     }
     if (out.runs.empty())
