@@ -422,7 +422,9 @@ void addRom(CLI::App& app, Action& action) {
         bool extrapolate = false;
     };
     auto ro = std::make_shared<RunCmd>();
-    auto* run = cmd->add_subcommand("run", "Predict a collapse with a model file: L*(t), H*(t), L*f and H*f at new mu(I) coefficients");
+    auto* run = cmd->add_subcommand("run", "Predict a collapse with a model file: L*(t), H*(t), L*f and H*f at new mu(I) coefficients "
+                                    "(the mixer's M and fields at a new point: rom regression --campaign NAME --at NAME=VALUE "
+                                    "... --fields OUT.h5)");
     run->add_option("MODEL", ro->model, "Model file (mixload rom build)")->required();
     run->add_option("--mu-s", ro->muS, "mu_s (as the solver reads it: the standard convention)")->required();
     run->add_option("--mu-d", ro->muD, "mu_d (> mu_s)")->required();
