@@ -129,8 +129,11 @@ int curve(const SurrogateCmd& o) {
     const std::vector<surrogates::Row> train(runs.rows.begin(), runs.rows.end() - o.holdout),
         held(runs.rows.end() - o.holdout, runs.rows.end());
     std::vector<int> sizes = o.sizes;
-    if (sizes.empty())  // about six sizes from 8 (or 5) to every training run, evenly in log
-        for (double n = std::min<double>(8, static_cast<double>(train.size())); ; n *= 1.4) {
+    // About six sizes from 8 (or fewer, or the fewest a linear trend takes) to every training run,
+    // evenly in log.
+    const double first = std::max(8.0, o.trend == "linear" ? surrogates::modelInputs(o.similarity).size() + 2.0 : 0.0);
+    if (sizes.empty())
+        for (double n = std::min<double>(first, static_cast<double>(train.size())); ; n *= 1.4) {
             const int k = std::min(static_cast<int>(std::lround(n)), static_cast<int>(train.size()));
             if (sizes.empty() || k > sizes.back()) sizes.push_back(k);
             if (k == static_cast<int>(train.size())) break;

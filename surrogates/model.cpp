@@ -117,6 +117,15 @@ Surrogate Surrogate::fit(const std::vector<Row>& train, const FitOptions& o, nlo
             s.umax_[k] = fwd(tf.logInput[k], s.dmax_[k]);
             if (!(s.umax_[k] > s.umin_[k])) s.umax_[k] = s.umin_[k] + 1;  // a constant input
         }
+        // A linear trend needs every input to vary: a constant one is a zero column beside the
+        // intercept (e.g. rho and I0, which issue 16's campaigns fix by design).
+        if (o.kind == "kriging" && o.kriging.trend == Trend::Linear)
+            for (size_t k = 0; k < static_cast<size_t>(d); ++k)
+                if (!(s.dmax_[k] > s.dmin_[k]))
+                    throw InputError("trend", "linear",
+                                     "inputs that vary over the training runs; " + s.in_[k].name + " is " +
+                                         formatNumber(s.dmin_[k]) + " in all " + std::to_string(n) +
+                                         " (fit with --similarity, which has no rho or I0, or --trend constant)");
         Eigen::MatrixXd Z(n, d);
         Eigen::VectorXd y(n);
         for (Eigen::Index i = 0; i < n; ++i) {

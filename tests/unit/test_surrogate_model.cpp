@@ -231,6 +231,30 @@ TEST(SurrogateModel, SimilarityLearnsTheBedVolumeInFiveInputs) {
     for (const auto& t : test) EXPECT_EQ(old.predict(t.x, w2).m, plain.predict(t.x, w1).m);
 }
 
+TEST(SurrogateModel, ALinearTrendNamesTheInputThatNeverVaries) {
+    // Issue 16's campaigns fix rho and I0 (similarity): a linear trend in them is a zero column
+    // beside the intercept, which used to surface as "no hyperparameters ... positive definite".
+    auto train = rows(20, 21);
+    for (auto& r : train) r.x[4] = 329.84;
+    FitOptions o;
+    o.kind = "kriging";
+    o.transform = "log";
+    o.kriging.trend = Trend::Linear;
+    try {
+        Surrogate::fit(train, o, {});
+        FAIL() << "a linear trend in a constant input was accepted";
+    } catch (const mixload::InputError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("rho is 329.84 in all 20"), std::string::npos) << what;
+        EXPECT_NE(what.find("--similarity"), std::string::npos) << what;
+    }
+    // The constant trend still fits, and so does the linear one with the input varying.
+    o.kriging.trend = Trend::Constant;
+    EXPECT_NO_THROW(Surrogate::fit(train, o, {}));
+    o.kriging.trend = Trend::Linear;
+    EXPECT_NO_THROW(Surrogate::fit(rows(20, 21), o, {}));
+}
+
 TEST(SurrogateModel, ADifferenceCarriesTheCorrelationOfItsTwoPredictions) {
     // Few runs, so that the model's own uncertainty (shared by nearby points) outweighs a run's
     // scatter (not shared).
