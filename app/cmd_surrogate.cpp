@@ -20,7 +20,7 @@ namespace {
 
 struct SurrogateCmd {
     std::string campaign, dir = "runs/campaigns", table, kind = "kriging", output, model, transform = "auto",
-                kernel = "matern52", trend = "constant", objective = "likelihood";
+                kernel = "matern52", trend = "constant", objective = "likelihood", holdoutCampaign, holdoutTable;
     int holdout = 0, starts = 20;
     std::vector<int> sizes;
     double target = 0.03, noise = 0;
@@ -121,13 +121,28 @@ int fit(const SurrogateCmd& o) {
 
 // Error against training runs: the last --holdout runs fixed as the hold-out, the model refitted
 // on the first n of the others for each n.
+// The hold-out is either the design's last runs or another campaign's runs (a hold-out placed by a
+// design of its own, as issue 16 asks), never both.
 int curve(const SurrogateCmd& o) {
     const auto f = fitOptions(o);
-    nlohmann::json source;
+    nlohmann::json source, heldSource;
     const auto runs = loadRuns(o, source);
-    requireRange("holdout", o.holdout, 1, static_cast<int>(runs.rows.size()) - 5);
-    const std::vector<surrogates::Row> train(runs.rows.begin(), runs.rows.end() - o.holdout),
-        held(runs.rows.end() - o.holdout, runs.rows.end());
+    const int given = (o.holdout > 0) + !o.holdoutCampaign.empty() + !o.holdoutTable.empty();
+    if (given != 1)
+        throw InputError("--holdout / --holdout-campaign / --holdout-table", given ? "(several)" : "(none)", "exactly one of them");
+    std::vector<surrogates::Row> train = runs.rows, held;
+    if (o.holdout > 0) {
+        requireRange("holdout", o.holdout, 1, static_cast<int>(runs.rows.size()) - 5);
+        held.assign(runs.rows.end() - o.holdout, runs.rows.end());
+        train.resize(train.size() - static_cast<size_t>(o.holdout));
+    } else {
+        SurrogateCmd h = o;
+        h.campaign = o.holdoutCampaign, h.table = o.holdoutTable;
+        if (h.campaign == o.campaign && h.table == o.table)
+            throw InputError("holdout", h.campaign + h.table, "runs other than the training ones");
+        held = loadRuns(h, heldSource).rows;
+        if (held.empty()) throw InputError("holdout", h.campaign + h.table, "finished, steady runs");
+    }
     std::vector<int> sizes = o.sizes;
     // About six sizes from 8 (or fewer, or the fewest a linear trend takes) to every training run,
     // evenly in log.
@@ -140,13 +155,15 @@ int curve(const SurrogateCmd& o) {
         }
     const auto c = surrogates::learningCurve(train, held, f, sizes);
     const auto law = surrogates::powerLawOf(c, o.target);
-    const std::string label = o.kind + (o.similarity ? " (similarity)" : "") + ", " + std::to_string(held.size()) + " hold-out runs";
+    const std::string label = o.kind + (o.similarity ? " (similarity)" : "") + ", " + std::to_string(held.size()) + " hold-out runs" +
+                              (o.holdoutCampaign.empty() ? "" : " of " + o.holdoutCampaign);
     const auto files = surrogates::writeLearningCurve(c, law, label, o.out);
     nlohmann::json points = nlohmann::json::array();
     for (const auto& p : c)
         points.push_back({{"n", p.n}, {"holdout_mean", p.mean}, {"holdout_ci90", {p.lo, p.hi}}, {"holdout_max", p.max},
                           {"coverage95", std::isnan(p.coverage) ? nlohmann::json() : nlohmann::json(p.coverage)}, {"loo_mean", p.looMean}});
-    const nlohmann::json out{{"source", source}, {"kind", o.kind}, {"similarity", o.similarity}, {"n_holdout", held.size()},
+    const nlohmann::json out{{"source", source}, {"holdout_source", heldSource.is_null() ? nlohmann::json("last runs of the source") : heldSource},
+                             {"kind", o.kind}, {"similarity", o.similarity}, {"n_holdout", held.size()},
                              {"points", points}, {"power_law", law}, {"files", files}};
     if (o.json) {
         std::cout << out.dump(2) << '\n';
@@ -322,9 +339,12 @@ void addSurrogate(CLI::App& app, Action& action) {
     f->add_flag("--json", o->json, "Print JSON");
     f->callback([&action, o] { action = [o] { return fit(*o); }; });
 
-    auto* cv = cmd->add_subcommand("curve", "Learning curve: hold-out error against the number of training runs (the last --holdout runs fixed as the hold-out)");
+    auto* cv = cmd->add_subcommand("curve", "Learning curve: hold-out error against the number of training runs (the last --holdout runs, or another campaign's, fixed as the hold-out)");
     addFitOptions(cv, o.get());
-    cv->add_option("--holdout", o->holdout, "The last N runs: the fixed hold-out")->required();
+    cv->add_option("--holdout", o->holdout, "The last N runs: the fixed hold-out");
+    cv->add_option("--holdout-campaign", o->holdoutCampaign,
+                   "Instead of --holdout: the finished, steady runs of this campaign (same --dir) are the hold-out, e.g. a hold-out design of its own");
+    cv->add_option("--holdout-table", o->holdoutTable, "Instead of --holdout: the runs of this CSV (as `campaign export` writes) are the hold-out");
     cv->add_option("--sizes", o->sizes, "Training-set sizes (default: about six from 8 to all, even in log)")->delimiter(',');
     cv->add_option("--target", o->target, "Error the power law is extrapolated to (runs needed)")->capture_default_str();
     cv->add_option("--out", o->out, "Directory for curve.md, .csv and .png")->capture_default_str();

@@ -20,8 +20,8 @@ namespace fs = std::filesystem;
 namespace {
 
 // A synthetic campaign export: a smooth loading law on 40 points, as `campaign export` writes it.
-fs::path syntheticTable(const fs::path& dir) {
-    std::mt19937 g(3);
+fs::path syntheticTable(const fs::path& dir, unsigned seed = 3) {
+    std::mt19937 g(seed);
     std::uniform_real_distribution<double> u(0, 1);
     std::ostringstream os;
     os << "# synthetic\nindex,mu_s,delta_mu,i0,d,rho,feed_kg_h,rpm,scene_hash,status,loading_kg,steady\n";
@@ -146,6 +146,40 @@ TEST(SurrogateCli, FitPredictWhatifCheck) {
     EXPECT_NE(r.err.find("exceeds --threshold"), std::string::npos) << r.err;
     const auto history = nlohmann::json::parse(mixload::readFile(model))["checks"];
     EXPECT_EQ(history.size(), 2u);  // both checks recorded
+}
+
+TEST(SurrogateCli, CurveHoldsOutTheLastRunsOrAnotherSetOfRuns) {
+    // Issue 16's hold-out is a design of its own (a second campaign), not the tail of the training
+    // design: the learning curve takes either.
+    const fs::path dir = scratchDir("surrogate-curve");
+    const fs::path table = syntheticTable(dir);
+    auto r = runMixload({"surrogate", "curve", "--table", table.string(), "--holdout", "10", "--sizes", "10,30", "--out",
+                         (dir / "tail").string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["n_holdout"], 10);
+    ASSERT_EQ(j["points"].size(), 2u);
+    // The same 40 runs as the training set, checked on a second table of the same law.
+    fs::create_directories(dir / "other");
+    const fs::path other = syntheticTable(dir / "other", 4);
+    r = runMixload({"surrogate", "curve", "--table", table.string(), "--holdout-table", other.string(), "--sizes", "10,40",
+                    "--out", (dir / "table").string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["n_holdout"], 40);
+    EXPECT_EQ(j["holdout_source"]["table"], other.string());
+    EXPECT_EQ(j["points"][1]["n"], 40);
+    EXPECT_LT(j["points"][1]["holdout_mean"].get<double>(), j["points"][0]["holdout_mean"].get<double>());
+    EXPECT_TRUE(fs::exists(dir / "table" / "curve.png"));
+    // Exactly one hold-out; the training runs themselves are not one.
+    for (const auto& extra : std::vector<std::vector<std::string>>{{}, {"--holdout", "5", "--holdout-table", other.string()},
+                                                                   {"--holdout-table", table.string()}}) {
+        auto args = std::vector<std::string>{"surrogate", "curve", "--table", table.string(), "--out", (dir / "bad").string()};
+        args.insert(args.end(), extra.begin(), extra.end());
+        r = runMixload(args);
+        EXPECT_EQ(r.rc, 2) << r.out;
+        EXPECT_NE(r.err.find("holdout"), std::string::npos) << r.err;
+    }
 }
 
 TEST(SurrogateCli, BadModelFilesAreRefused) {
