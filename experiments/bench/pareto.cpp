@@ -51,17 +51,12 @@ nlohmann::json writePareto(const fs::path& out, const ParetoPlot& plot, std::vec
         csv << ',' << m.offlineSeconds << ',' << (m.front ? 1 : 0) << '\n';
         rows.push_back(row);
     }
-    // The front in order of time, the reference drawn at the error floor; labels alternately above
-    // and below their points, since neighbours in time often share an error.
+    // One series per method, named in the key: text beside the points overlapped wherever methods
+    // share a time or an error. The front in order of time, the reference drawn at the error floor.
     std::vector<ParetoMethod> byTime = ms;
     std::sort(byTime.begin(), byTime.end(), [](const auto& a, const auto& c) { return a.seconds < c.seconds; });
     const double floor = 1e-4;
-    for (size_t i = 0; i < byTime.size(); ++i) {
-        const auto& m = byTime[i];
-        dat << m.seconds << ' ' << std::max(m.error, floor) << " \"" << m.name << "\" " << (m.front ? 1 : 0) << ' '
-            << (i % 2 == 0 ? 1.7 : 0.55) << '\n';
-    }
-    dat << "\n\n";
+    for (const auto& m : byTime) dat << m.seconds << ' ' << std::max(m.error, floor) << "\n\n\n";
     for (const auto& m : byTime)
         if (m.front) dat << m.seconds << ' ' << std::max(m.error, floor) << '\n';
     fs::create_directories(out);
@@ -73,10 +68,14 @@ nlohmann::json writePareto(const fs::path& out, const ParetoPlot& plot, std::vec
        << "set format x '1e%L'\nset format y '1e%L'\n"
        << "set xlabel '" << plot.timeLabel << "'\nset ylabel '" << plot.errorLabel << "'\n"
        << "set title '" << plot.title << " (reference drawn at " << floor << ")'\n"
-       << "set offsets graph 0.1, graph 0.3, graph 0.2, graph 0.2\nset key bottom left\n"
-       << "plot 'pareto.dat' index 0 using 1:2 with points pt 7 ps 1.5 lc 'blue' title 'methods', "
-       << "'' index 0 using 1:($2*$5):3 with labels font ',9' notitle, "
-       << "'' index 1 using 1:2 with steps lw 2 lc 'red' title 'Pareto front'\n";
+       << "set offsets graph 0.1, graph 0.1, graph 0.2, graph 0.5\nset key inside left bottom font ',9' spacing 1.1 box opaque\nplot ";
+    for (size_t i = 0; i < byTime.size(); ++i) {
+        std::string title = byTime[i].name;
+        std::replace(title.begin(), title.end(), '\'', ' ');
+        gp << "'pareto.dat' index " << i << " using 1:2 with points pt " << 5 + 2 * (i % 5) << " ps 1.6 lc " << i + 1
+           << " title '" << title << (byTime[i].front ? " *" : "") << "', ";
+    }
+    gp << "'' index " << byTime.size() << " using 1:2 with steps lw 2 lc 'red' title 'Pareto front (*)'\n";
     const std::string warning = runGnuplot(out, "pareto.gp", gp.str());
     nlohmann::json j{{"pareto", rows}, {"pareto_table", (out / "pareto.md").string()}, {"pareto_plot", (out / "pareto.png").string()}};
     if (!warning.empty()) j["pareto_warning"] = warning;
