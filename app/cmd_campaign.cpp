@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // `mixload campaign`: parses, calls experiments/campaign, prints.
 
+#include <cmath>
 #include <iostream>
 
 #include "app/commands.hpp"
@@ -197,7 +198,11 @@ void addCampaign(CLI::App& app, Action& action) {
             }
             for (const auto& p : j["pairs"])
                 std::cout << "  point " << p["index"] << ": " << formatNumber(p["loading_kg"].get<double>()) << " kg, from "
-                          << formatNumber(p["initial_loading_kg"].get<double>()) << " kg: " << formatNumber(p["replicate_kg"].get<double>())
+                          << formatNumber(p["initial_loading_kg"].get<double>()) << " kg"
+                          << (p["laid_kg"].is_number() && std::abs(p["laid_kg"].get<double>() / p["initial_loading_kg"].get<double>() - 1) > 0.1
+                                  ? " (laid " + formatNumber(p["laid_kg"].get<double>()) + " kg)"
+                                  : std::string())
+                          << ": " << formatNumber(p["replicate_kg"].get<double>())
                           << " kg (" << formatNumber(100 * p["relative_difference"].get<double>()) << "%)\n";
             if (j["run_noise"].is_null()) std::cout << "no finished replicate pair yet\n";
             else std::cout << j["n"] << " pairs: one run's scatter " << formatNumber(100 * j["run_noise"].get<double>()) << "% (surrogate fit --noise "

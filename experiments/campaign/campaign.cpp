@@ -450,8 +450,18 @@ nlohmann::json campaignNoise(const CampaignPlace& o) {
         // Relative difference of the two results about their mean: each run's own scatter is
         // this over sqrt(2).
         const double rel = (b - a) / (0.5 * (a + b));
+        // The deposit a coarse mesh actually laid can differ from the one asked: start.laid_kg, or
+        // for runs recorded before it, the first loading in the run directory's result.
+        nlohmann::json start = r.result.is_object() ? r.result.value("start", nlohmann::json::object()) : nlohmann::json::object();
+        std::error_code ec;
+        if (!start.contains("laid_kg") && !r.runDir.empty() && fs::exists(fs::path(r.runDir) / "result.json", ec)) {
+            const auto full = nlohmann::json::parse(readFile(fs::path(r.runDir) / "result.json"), nullptr, false);
+            if (full.is_object() && full.contains("initial_loading_kg")) start["laid_kg"] = full["initial_loading_kg"];
+        }
         pairs.push_back({{"index", it->second->index}, {"replicate_index", r.index}, {"loading_kg", a}, {"replicate_kg", b},
-                         {"initial_loading_kg", r.params["initial_loading_kg"]}, {"relative_difference", rel}});
+                         {"initial_loading_kg", r.params["initial_loading_kg"]},
+                         {"laid_kg", start.contains("laid_kg") ? start["laid_kg"] : nlohmann::json()},
+                         {"relative_difference", rel}});
         sum2 += rel * rel;
         ++n;
     }
