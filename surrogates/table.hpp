@@ -18,6 +18,9 @@ struct Row {
 struct Table {
     std::vector<Row> rows;
     size_t skipped = 0;  // rows not usable: not done, not steady, or missing a value
+    // Campaign runs that repeat a design point from another deposit (campaign replicate): they
+    // measure the label noise (campaign noise) and are neither training nor hold-out points.
+    size_t replicates = 0;
 };
 
 // Reads a CSV such as `mixload campaign export` writes ('#' lines are comments). Needs the seven

@@ -23,6 +23,11 @@ surrogates::Table campaignTable(const std::string& name, const std::string& dir,
                   {"campaign_mixload_version", c.mixloadVersion}, {"campaign_git_commit", c.gitCommit}};
     surrogates::Table t;
     for (const auto& r : l->runs(name)) {
+        // As in the POD regression: a replicate counts its point twice, in training or hold-out.
+        if (r.params.contains("initial_loading_kg")) {
+            ++t.replicates;
+            continue;
+        }
         const auto m = runQuantity(r, c.scene);
         if (!m) {
             ++t.skipped;
@@ -34,6 +39,7 @@ surrogates::Table campaignTable(const std::string& name, const std::string& dir,
         row.m = *m;
         t.rows.push_back(row);
     }
+    provenance["replicates_left_out"] = t.replicates;
     return t;
 }
 

@@ -13,6 +13,7 @@
 
 #include "store/ledger.hpp"
 #include "campaign/campaign.hpp"
+#include "campaign/campaign_table.hpp"
 #include "studies/fidelity_pilot.hpp"
 #include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
@@ -203,6 +204,13 @@ TEST(Ledger, ReplicatesAndTheirNoise) {
     const auto noise = ex::campaignNoise(spec.place);
     EXPECT_EQ(noise["n"], 2);
     EXPECT_NEAR(noise["run_noise"].get<double>(), 0.02 / 1.01 / std::sqrt(2.0), 1e-9);
+    // The surrogates' table of the campaign keeps its design points only: a replicate would count
+    // its point twice, in training or in a hold-out.
+    nlohmann::json provenance;
+    const auto table = ex::campaignTable("rep", dir.string(), provenance);
+    EXPECT_EQ(table.rows.size(), 4u);
+    EXPECT_EQ(table.replicates, 2u);
+    EXPECT_EQ(provenance["replicates_left_out"], 2);
     fs::remove_all(dir);
 }
 
