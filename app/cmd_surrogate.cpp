@@ -119,10 +119,9 @@ int fit(const SurrogateCmd& o) {
     return 0;
 }
 
-// Error against training runs: the last --holdout runs fixed as the hold-out, the model refitted
-// on the first n of the others for each n.
-// The hold-out is either the design's last runs or another campaign's runs (a hold-out placed by a
-// design of its own, as issue 16 asks), never both.
+// Error against training runs: the model refitted on the first n training runs for each n, checked
+// on a fixed hold-out: the design's last --holdout runs, or another campaign's or table's runs (a
+// hold-out placed by a design of its own, as issue 16 asks), never both.
 int curve(const SurrogateCmd& o) {
     const auto f = fitOptions(o);
     nlohmann::json source, heldSource;

@@ -95,7 +95,7 @@ nlohmann::json keepCampaignFields(const fs::path& ledger, const std::string& cam
         const bool keptWithU = inKept && it->second.second.value("velocity", false);
         const bool keptWithMean = inKept && it->second.second.value("window_times", 0) > 0;
         // A kept run is read again from its directory only for what the file lacks and the directory has.
-        if (inKept && (!hasSnapshots(r) || (keptWithU && (keptWithMean || it->second.second.contains("window_times"))))) {
+        if (inKept && (!hasSnapshots(r) || (keptWithU && it->second.second.contains("window_times")))) {
             indices.push_back(r.index);
             alphas.push_back(kept.file->column("alpha", it->second.first));
             velocities.push_back(keptU ? kept.file->column("U", it->second.first)

@@ -34,6 +34,10 @@ struct LedgerRun {
     std::string runDir, error, started, finished;
 };
 
+// A mixer run queued by `campaign replicate`: a design point again from a deposit of its own. It
+// measures the label noise and is neither a training nor a hold-out point.
+inline bool isReplicate(const LedgerRun& r) { return r.params.contains("initial_loading_kg"); }
+
 // What a ledger keeps of a finished run's record (the full record stays in its run directory);
 // kind: mixer | collapse.
 nlohmann::json runQois(const std::string& kind, const nlohmann::json& result);

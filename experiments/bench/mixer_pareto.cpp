@@ -45,7 +45,7 @@ SteadyRuns steadyRuns(const CampaignPlace& place) {
     for (const auto& r : l->runs(place.name)) {
         if (r.status == "done") s.coreSeconds += r.coreSeconds.value_or(0);
         const auto m = runQuantity(r, s.info.scene);
-        if (!m || r.params.contains("initial_loading_kg")) continue;  // not steady, or a replicate
+        if (!m || store::isReplicate(r)) continue;  // not steady, or a replicate
         s.runs[r.index] = {r.params, mixerInputs(s.info.sceneJson, r.params), *m, r.coreSeconds.value_or(0)};
     }
     return s;

@@ -388,7 +388,7 @@ nlohmann::json replicateCampaign(const CampaignPlace& o, int n, double depositFa
     for (const auto& r : runs) {
         hashes.insert(r.params.value("scene_hash", std::string()));
         const auto m = runQuantity(r, c.scene);
-        if (!m || r.params.contains("initial_loading_kg")) continue;
+        if (!m || store::isReplicate(r)) continue;
         done.push_back(&r);
         loading.push_back(*m);
         units.push_back(unitOf(space, r));
@@ -436,12 +436,12 @@ nlohmann::json campaignNoise(const CampaignPlace& o) {
     };
     std::map<std::string, const store::LedgerRun*> originals;
     for (const auto& r : runs)
-        if (!r.params.contains("initial_loading_kg")) originals[key(r.params)] = &r;
+        if (!store::isReplicate(r)) originals[key(r.params)] = &r;
     nlohmann::json pairs = nlohmann::json::array();
     double sum2 = 0;
     int n = 0;
     for (const auto& r : runs) {
-        if (!r.params.contains("initial_loading_kg")) continue;
+        if (!store::isReplicate(r)) continue;
         const auto it = originals.find(key(r.params));
         if (it == originals.end()) continue;
         const auto ma = runQuantity(*it->second, c.scene), mb = runQuantity(r, c.scene);
@@ -580,7 +580,7 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
             bool done = false;
             try {
                 // A replicate's deposit is the point of its run: it never starts warm.
-                const fs::path warm = (o.warmNearest || !o.warmFrom.empty()) && !r->params.contains("initial_loading_kg")
+                const fs::path warm = (o.warmNearest || !o.warmFrom.empty()) && !store::isReplicate(*r)
                                           ? warmSourceFor(l.runs(place.name), space, *r, warmRuns)
                                           : fs::path();
                 const nlohmann::json res =

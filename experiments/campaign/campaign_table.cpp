@@ -24,7 +24,7 @@ surrogates::Table campaignTable(const std::string& name, const std::string& dir,
     surrogates::Table t;
     for (const auto& r : l->runs(name)) {
         // As in the POD regression: a replicate counts its point twice, in training or hold-out.
-        if (r.params.contains("initial_loading_kg")) {
+        if (store::isReplicate(r)) {
             ++t.replicates;
             continue;
         }

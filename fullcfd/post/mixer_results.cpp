@@ -179,7 +179,7 @@ nlohmann::json mixerResult(const scene::MixerScene& s, const fs::path& caseDir) 
           << "% of the loading is in cells more than half powder: the powder layer is thinner than "
              "the mesh resolves, so this loading is not a bed the model describes; refine the mesh "
              "(--cell-size) or start from a deposit (--initial-loading-kg)";
-        r["warning"] = r.contains("warning") ? r["warning"].get<std::string>() + "; " + w.str() : w.str();
+        addWarning(r, w.str());
     }
     // Runs made before the monitor stopped diverged solutions: powder beyond the bound anywhere in
     // the history means the loading that followed is not the model's.
@@ -193,12 +193,16 @@ nlohmann::json mixerResult(const scene::MixerScene& s, const fs::path& caseDir) 
             r["diverged"] = true;
             r["steady"] = false;
             r["steady_time_s"] = nullptr;
-            r["warning"] = r.contains("warning") ? r["warning"].get<std::string>() + "; " + w.str() : w.str();
+            addWarning(r, w.str());
         }
     }
     r["final_max_powder_speed_m_s"] = last.maxPowderSpeed;
     if (verdict && r["steady"].get<bool>()) r["steady_verdict"] = *verdict;
     return r;
+}
+
+void addWarning(nlohmann::json& result, const std::string& warning) {
+    result["warning"] = result.contains("warning") ? result["warning"].get<std::string>() + "; " + warning : warning;
 }
 
 std::string plotLoading(const scene::MixerScene& s, const fs::path& caseDir) {

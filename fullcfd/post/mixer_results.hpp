@@ -29,6 +29,9 @@ nlohmann::json readCheckMesh(const std::filesystem::path& caseDir);
 // The result record of a mixer run (without timings).
 nlohmann::json mixerResult(const scene::MixerScene& s, const std::filesystem::path& caseDir);
 
+// Adds a warning to a result: warnings accumulate in one "warning" string, separated by "; ".
+void addWarning(nlohmann::json& result, const std::string& warning);
+
 // Writes loading.png (M(t), and the outflow beside the feed) into caseDir; returns a warning or "".
 std::string plotLoading(const scene::MixerScene& s, const std::filesystem::path& caseDir);
 

@@ -254,7 +254,7 @@ nlohmann::json runMixer(const MixerJob& job) {
             std::ostringstream w;
             w << "the deposit laid holds " << laid << " kg of the " << asked
               << " kg asked: the mesh cannot resolve a layer that thin or thick, so the run started elsewhere than asked";
-            result["warning"] = result.contains("warning") ? result["warning"].get<std::string>() + "; " + w.str() : w.str();
+            post::addWarning(result, w.str());
         }
     }
     if (job.profile) result["profile"] = post::readRunProfile(dir);

@@ -79,7 +79,7 @@ struct CampaignFields {
         // A replicate (campaign replicate: a design point run again from another deposit) repeats
         // its point's inputs; it measures the label noise and is no training point of its own.
         std::erase_if(finals.runs, [&](const store::FinalField& f) {
-            const bool replicate = f.run.params.contains("initial_loading_kg");
+            const bool replicate = store::isReplicate(f.run);
             c.replicates += replicate ? 1 : 0;
             return replicate;
         });
