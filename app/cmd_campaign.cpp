@@ -199,7 +199,7 @@ void addCampaign(CLI::App& app, Action& action) {
             for (const auto& p : j["pairs"])
                 std::cout << "  point " << p["index"] << ": " << formatNumber(p["loading_kg"].get<double>()) << " kg, from "
                           << formatNumber(p["initial_loading_kg"].get<double>()) << " kg"
-                          << (p["laid_kg"].is_number() && std::abs(p["laid_kg"].get<double>() / p["initial_loading_kg"].get<double>() - 1) > 0.1
+                          << (p["laid_far_from_asked"].get<bool>()
                                   ? " (laid " + formatNumber(p["laid_kg"].get<double>()) + " kg)"
                                   : std::string())
                           << ": " << formatNumber(p["replicate_kg"].get<double>())

@@ -42,6 +42,23 @@ bool hasField(const SnapshotFile& f, const std::string& name) {
 }
 bool hasVelocity(const SnapshotFile& f) { return hasField(f, "U"); }
 
+// The window mean kept for a run, when the file holds a whole one: a column of NaN stands for a run
+// kept without it (found in v2c-holdout's file beside records that claimed one).
+std::optional<Eigen::VectorXd> keptWindowMean(const Kept& k, const std::pair<size_t, nlohmann::json>& kept) {
+    if (kept.second.value("window_times", 0) <= 0 || !hasField(*k.file, "alpha_window_mean")) return std::nullopt;
+    Eigen::VectorXd m = k.file->column("alpha_window_mean", kept.first);
+    if (!m.allFinite()) return std::nullopt;
+    return m;
+}
+
+// Whether the kept file holds all a run directory would give: the velocity, and the window mean
+// or the finding that the run's snapshots hold too few times for one.
+bool keptWhole(const Kept& k, const std::pair<size_t, nlohmann::json>& kept) {
+    const auto& rec = kept.second;
+    return rec.value("velocity", false) && rec.contains("window_times") &&
+           (rec.value("window_times", 0) == 0 || keptWindowMean(k, kept).has_value());
+}
+
 bool hasSnapshots(const LedgerRun& r) { return !r.runDir.empty() && fs::exists(fs::path(r.runDir) / "snapshots.h5"); }
 
 // The mean powder fraction over the stored times of the run's final window (result.json's
@@ -69,7 +86,6 @@ nlohmann::json keepCampaignFields(const fs::path& ledger, const std::string& cam
     const auto runs = finishedCampaignRuns(ledger, campaign);
     const Kept kept = readKept(ledger);
     const bool keptU = kept.file && hasVelocity(*kept.file);
-    const bool keptMean = kept.file && hasField(*kept.file, "alpha_window_mean");
     std::vector<double> indices;
     std::vector<Eigen::VectorXd> alphas, velocities, means;
     nlohmann::json records = nlohmann::json::array();
@@ -93,15 +109,15 @@ nlohmann::json keepCampaignFields(const fs::path& ledger, const std::string& cam
         const auto it = kept.byIndex.find(r.index);
         const bool inKept = it != kept.byIndex.end();
         const bool keptWithU = inKept && it->second.second.value("velocity", false);
-        const bool keptWithMean = inKept && it->second.second.value("window_times", 0) > 0;
+        const auto keptMean = inKept ? keptWindowMean(kept, it->second) : std::nullopt;
+        const bool keptWithMean = keptMean.has_value();
         // A kept run is read again from its directory only for what the file lacks and the directory has.
-        if (inKept && (!hasSnapshots(r) || (keptWithU && it->second.second.contains("window_times")))) {
+        if (inKept && (!hasSnapshots(r) || keptWhole(kept, it->second))) {
             indices.push_back(r.index);
             alphas.push_back(kept.file->column("alpha", it->second.first));
             velocities.push_back(keptU ? kept.file->column("U", it->second.first)
                                        : Eigen::VectorXd::Constant(3 * cells(), std::nan("")));
-            means.push_back(keptMean && keptWithMean ? kept.file->column("alpha_window_mean", it->second.first)
-                                                     : Eigen::VectorXd::Constant(cells(), std::nan("")));
+            means.push_back(keptMean ? *keptMean : Eigen::VectorXd::Constant(cells(), std::nan("")));
             records.push_back(it->second.second);
             continue;
         }
@@ -168,23 +184,24 @@ FinalFields campaignFinalFields(const fs::path& ledger, const std::string& campa
         }
     };
     for (const auto& r : runs) {
-        if (hasSnapshots(r)) {
+        // The kept file gives what the run directory would (checked to every digit) in one read, so
+        // it serves when it holds the run whole (velocity and window mean); the directory serves the rest.
+        const auto it = kept.byIndex.find(r.index);
+        if (hasSnapshots(r) && !(it != kept.byIndex.end() && keptWhole(kept, it->second))) {
             const SnapshotFile f(fs::path(r.runDir) / "snapshots.h5");
             sameMesh(f);
             const size_t last = f.times().size() - 1;
             auto [mean, times] = windowMean(f, r);
             out.runs.push_back({r, f.column("alpha", last), hasVelocity(f) ? f.column("U", last) : Eigen::VectorXd(), bulkDensityOf(f),
                                 std::move(mean), times});
-        } else if (const auto it = kept.byIndex.find(r.index); it != kept.byIndex.end()) {
+        } else if (it != kept.byIndex.end()) {
             sameMesh(*kept.file);
             const bool withU = it->second.second.value("velocity", false);
-            const int windowTimes = it->second.second.value("window_times", 0);
-            const bool withMean = windowTimes > 0 && hasField(*kept.file, "alpha_window_mean");
+            const auto mean = keptWindowMean(kept, it->second);
             out.runs.push_back({r, kept.file->column("alpha", it->second.first),
                                 withU ? kept.file->column("U", it->second.first) : Eigen::VectorXd(),
-                                it->second.second.value("bulk_density_kg_m3", 0.0),
-                                withMean ? kept.file->column("alpha_window_mean", it->second.first) : Eigen::VectorXd(),
-                                withMean ? windowTimes : 0});
+                                it->second.second.value("bulk_density_kg_m3", 0.0), mean.value_or(Eigen::VectorXd()),
+                                mean ? it->second.second.value("window_times", 0) : 0});
         }
     }
     if (out.runs.empty())

@@ -461,6 +461,8 @@ nlohmann::json campaignNoise(const CampaignPlace& o) {
         pairs.push_back({{"index", it->second->index}, {"replicate_index", r.index}, {"loading_kg", a}, {"replicate_kg", b},
                          {"initial_loading_kg", r.params["initial_loading_kg"]},
                          {"laid_kg", start.contains("laid_kg") ? start["laid_kg"] : nlohmann::json()},
+                         {"laid_far_from_asked", start.contains("laid_kg") && run::laidFarFromAsked(r.params["initial_loading_kg"].get<double>(),
+                                                                                                   start["laid_kg"].get<double>())},
                          {"relative_difference", rel}});
         sum2 += rel * rel;
         ++n;

@@ -250,7 +250,7 @@ nlohmann::json runMixer(const MixerJob& job) {
     if (result["start"].contains("deposit_kg") && result.contains("initial_loading_kg")) {
         const double asked = result["start"]["deposit_kg"].get<double>(), laid = result["initial_loading_kg"].get<double>();
         result["start"]["laid_kg"] = laid;
-        if (asked > 0 && std::abs(laid - asked) > 0.1 * asked) {
+        if (laidFarFromAsked(asked, laid)) {
             std::ostringstream w;
             w << "the deposit laid holds " << laid << " kg of the " << asked
               << " kg asked: the mesh cannot resolve a layer that thin or thick, so the run started elsewhere than asked";

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <optional>
 
@@ -35,5 +36,9 @@ nlohmann::json runMixer(const MixerJob& job);
 double warmSourceTime(const std::filesystem::path& source);
 
 std::filesystem::path defaultMixerDir(const scene::MixerScene& s, int np);
+
+// Whether the deposit the mesh laid is far enough from the one asked (more than 10%) to be said:
+// setFields fills whole cells, so a layer near a cell's height is laid short or long.
+inline bool laidFarFromAsked(double askedKg, double laidKg) { return askedKg > 0 && std::abs(laidKg - askedKg) > 0.1 * askedKg; }
 
 }  // namespace mixload::run

@@ -321,7 +321,7 @@ TEST(CollapseGalerkin, HyperReducedViscousTermMatchesTheMeshTerm) {
         } else {
             EXPECT_LT(h.trainingError, 1e-8);
         }
-        for (const size_t t : {size_t{8}, size_t{8 * (trained / 2)}}) {
+        for (const size_t t : {size_t{8}, static_cast<size_t>(8 * (trained / 2))}) {
             const rom::Frozen z = flow.freeze(f.column("alpha", t));
             const Eigen::VectorXd a = flow.project(z, f.faceColumn("phi", t));
             const Eigen::VectorXd muP = flow.hyperViscosity(z, a);

@@ -334,4 +334,52 @@ TEST(RomRegression, MixerCampaignReadsItsLoadingFromTheField) {
                                    "--warm-from", (dir / "at400.h5").string(), "--out", (dir / "other").string()});
     EXPECT_EQ(other.rc, 2) << other.err;
     EXPECT_NE(other.err.find("a field file of this run's mesh"), std::string::npos) << other.err;
+
+    // A kept window mean of NaN (found in v2c-holdout's fields.h5 beside records that claimed a
+    // mean) is no mean: the readers take the run directory's, and keep-fields writes it back. Run 0
+    // is given four stored times in its final window, the last one its own final field.
+    const auto runs = store::campaignFinalFields(dir / "m" / "ledger.sqlite", "m").runs;
+    const fs::path run0 = runs.front().run.runDir;
+    {
+        const store::SnapshotFile src(run0 / "snapshots.h5");
+        const double t = src.times().back();
+        const Eigen::VectorXd a = src.column("alpha", src.times().size() - 1), u = src.column("U", src.times().size() - 1);
+        Eigen::MatrixXd alpha(a.size(), 4), U(u.size(), 4);
+        const double scale[4] = {0.9, 1.1, 0.95, 1.0};
+        for (int k = 0; k < 4; ++k) alpha.col(k) = scale[k] * a, U.col(k) = u;
+        writeDerivedSnapshots(src, {t - 0.03, t - 0.02, t - 0.01, t}, {{"alpha", alpha}, {"U", U}}, {{"kind", "four window times"}},
+                              dir / "four.h5");
+    }
+    fs::rename(dir / "four.h5", run0 / "snapshots.h5");
+    auto result = nlohmann::json::parse(std::ifstream(run0 / "result.json"));
+    result["window"] = 0.035;
+    std::ofstream(run0 / "result.json") << result.dump();
+    const auto keep = [&] { return nlohmann::json::parse(runMixload({"campaign", "keep-fields", "m", "--dir", dir.string(), "--json"}).out); };
+    const fs::path kept = dir / "m" / "fields.h5";
+    fs::remove(kept);  // kept before run 0 had a window (a finished run's snapshots never change)
+    EXPECT_EQ(keep()["added"], runs.size());
+    Eigen::VectorXd expected;
+    {
+        const store::SnapshotFile k(kept);
+        expected = k.column("alpha_window_mean", 0);
+        ASSERT_TRUE(expected.allFinite());
+        Eigen::MatrixXd alpha(expected.size(), static_cast<Eigen::Index>(runs.size())), U(3 * expected.size(), alpha.cols()),
+            mean(expected.size(), alpha.cols());
+        std::vector<double> indices;
+        for (Eigen::Index i = 0; i < alpha.cols(); ++i) {
+            alpha.col(i) = k.column("alpha", static_cast<size_t>(i)), U.col(i) = k.column("U", static_cast<size_t>(i));
+            mean.col(i) = Eigen::VectorXd::Constant(expected.size(), std::nan(""));
+            indices.push_back(runs[static_cast<size_t>(i)].run.index);
+        }
+        writeDerivedSnapshots(k, indices, {{"alpha", alpha}, {"U", U}, {"alpha_window_mean", mean}},
+                              {{"kind", "campaign final fields"}, {"campaign", "m"}, {"kept_runs", k.provenance()["kept_runs"]}}, dir / "nan.h5");
+    }
+    fs::rename(dir / "nan.h5", kept);
+    const auto again = store::campaignFinalFields(dir / "m" / "ledger.sqlite", "m").runs;
+    EXPECT_EQ(again.front().windowTimes, 4);
+    ASSERT_EQ(again.front().alphaWindowMean.size(), expected.size());
+    EXPECT_LT((again.front().alphaWindowMean - expected).norm(), 1e-12 * expected.norm());
+    EXPECT_EQ(keep()["window_mean_added"], 1);
+    EXPECT_TRUE(store::SnapshotFile(kept).column("alpha_window_mean", 0).allFinite());
+    EXPECT_EQ(keep()["window_mean_added"], 0);  // kept whole now: nothing to rewrite
 }

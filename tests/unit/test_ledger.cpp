@@ -196,13 +196,21 @@ TEST(Ledger, ReplicatesAndTheirNoise) {
         std::map<std::string, double> m;
         for (const auto& r : l.runs("rep"))
             if (r.status == "done") m[r.params["rpm"].dump()] = r.result["loading_kg"].get<double>();
+        // The first replicate's mesh laid half its deposit, the second's 5% more than asked.
+        double laid = 0.5;
         while (auto r = l.claimNext("rep", 2, false)) {
             if (!r->params.contains("initial_loading_kg")) continue;
-            l.markDone(r->id, {{"loading_kg", 1.02 * m.at(r->params["rpm"].dump())}, {"steady", true}}, 1, 1, "/x");
+            const nlohmann::json start{{"deposit_kg", r->params["initial_loading_kg"]},
+                                       {"laid_kg", laid * r->params["initial_loading_kg"].get<double>()}};
+            l.markDone(r->id, {{"loading_kg", 1.02 * m.at(r->params["rpm"].dump())}, {"steady", true}, {"start", start}}, 1, 1, "/x");
+            laid = 1.05;
         }
     }
     const auto noise = ex::campaignNoise(spec.place);
     EXPECT_EQ(noise["n"], 2);
+    std::multiset<bool> far;
+    for (const auto& p : noise["pairs"]) far.insert(p["laid_far_from_asked"].get<bool>());
+    EXPECT_EQ(far, (std::multiset<bool>{false, true}));
     EXPECT_NEAR(noise["run_noise"].get<double>(), 0.02 / 1.01 / std::sqrt(2.0), 1e-9);
     // The surrogates' table of the campaign keeps its design points only: a replicate would count
     // its point twice, in training or in a hold-out.
