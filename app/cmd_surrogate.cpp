@@ -4,6 +4,7 @@
 #include <iomanip>
 #include <iostream>
 
+#include "campaign/campaign.hpp"
 #include "campaign/campaign_table.hpp"
 #include "app/commands.hpp"
 #include "app/point_options.hpp"
@@ -265,6 +266,12 @@ int runCheck(const std::string& modelPath, const std::string& campaign, const st
     r["model"] = modelPath;
     r["source"] = source;
     r["threshold"] = threshold ? nlohmann::json(*threshold) : nlohmann::json();
+    // The runs' own scatter, measured by the campaign's replicates, is the floor under any model's
+    // error on them: it belongs beside the error.
+    r["label_noise"] = nlohmann::json();
+    if (!o.campaign.empty())
+        if (const auto noise = experiments::campaignNoise({o.campaign, o.dir}); noise["n"].get<int>() > 0)
+            r["label_noise"] = {{"replicate_pairs", noise["n"]}, {"run_noise", noise["run_noise"]}};
     if (record) {
         m.checks().push_back({{"date_utc", utcNow()},
                               {"source", source},
@@ -293,6 +300,10 @@ int runCheck(const std::string& modelPath, const std::string& campaign, const st
                   << "\n  leave-one-out (" << r["loo"]["n"] << " training runs): mean " << pct(r["loo"]["mean_rel_error"])
                   << ci(r["loo"]["mean_rel_error_ci90"]) << ", max " << pct(r["loo"]["max_rel_error"]) << ", coverage "
                   << pct(r["loo"]["coverage95"]) << '\n';
+        if (!r["label_noise"].is_null())
+            std::cout << "  label noise of these runs (" << r["label_noise"]["replicate_pairs"]
+                      << " replicate pairs, campaign noise): one run's scatter " << pct(r["label_noise"]["run_noise"])
+                      << ", a floor under any model's error at such points\n";
         if (record) std::cout << "  recorded in the model's check history\n";
     }
     if (failed)

@@ -141,6 +141,8 @@ TEST(SurrogateCli, FitPredictWhatifCheck) {
     EXPECT_EQ(j["n_holdout"], 8);
     EXPECT_EQ(j["loo"]["n"], 32);
     for (const char* k : {"mean_rel_error", "max_rel_error", "coverage95"}) EXPECT_TRUE(j[k].is_number()) << k;
+    ASSERT_TRUE(j.contains("label_noise"));
+    EXPECT_TRUE(j["label_noise"].is_null());  // a table has no replicates to measure it by
     r = runMixload({"check", "--model", model.string(), "--table", table.string(), "--threshold", "1e-9"});
     EXPECT_EQ(r.rc, 1);
     EXPECT_NE(r.err.find("exceeds --threshold"), std::string::npos) << r.err;
