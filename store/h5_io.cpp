@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "store/h5_io.hpp"
 
+#include "common/atomic_file.hpp"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -247,8 +249,7 @@ std::vector<Attr> attrs(hid_t obj) {
 }
 
 void writeFileAtomically(const std::filesystem::path& path, const std::function<void(hid_t)>& fill) {
-    std::filesystem::path tmp = path;
-    tmp += ".tmp." + std::to_string(::getpid());
+    const auto tmp = atomicTempPath(path);
     if (!path.parent_path().empty()) std::filesystem::create_directories(path.parent_path());
     try {
         {
@@ -256,7 +257,7 @@ void writeFileAtomically(const std::filesystem::path& path, const std::function<
             fill(f);
             H5Fflush(f, H5F_SCOPE_GLOBAL);
         }
-        std::filesystem::rename(tmp, path);
+        commitAtomic(tmp, path);
     } catch (...) {
         std::error_code ec;
         std::filesystem::remove(tmp, ec);

@@ -97,6 +97,12 @@ Table readTable(const std::filesystem::path& csv) {
             ++t.skipped;
             continue;
         }
+        // A campaign export's replicate (a design point run again from another deposit, the only rows
+        // with a deposit of their own) would count its point twice, as in a campaign's table.
+        if (!field("initial_loading_kg").empty()) {
+            ++t.replicates;
+            continue;
+        }
         Row r;
         r.id = !field("scene_hash").empty() ? field("scene_hash")
                : !field("index").empty()    ? field("index")

@@ -242,10 +242,13 @@ double distance2(const std::vector<double>& a, const std::vector<double>& b) {
 fs::path warmSourceFor(const std::vector<store::LedgerRun>& runs, const ParameterSpace& space,
                        const store::LedgerRun& r, const std::vector<store::LedgerRun>& pool = {}) {
     const auto at = unitOf(space, r);
+    // Not from a replicate: one started from another deposit may sit in another steady state (a
+    // factor 3.4 apart at v2c-holdout's 247 rpm point), the very thing it was run to show.
     std::vector<const store::LedgerRun*> candidates;
     for (const auto& o : runs)
-        if (o.index != r.index) candidates.push_back(&o);
-    for (const auto& o : pool) candidates.push_back(&o);
+        if (o.index != r.index && !store::isReplicate(o)) candidates.push_back(&o);
+    for (const auto& o : pool)
+        if (!store::isReplicate(o)) candidates.push_back(&o);
     Design units;
     std::vector<double> logM;
     std::vector<fs::path> dirs;
@@ -313,6 +316,23 @@ std::optional<double> runQuantity(const store::LedgerRun& r, const std::string& 
     return q.is_number() ? std::optional<double>(q.get<double>()) : std::nullopt;
 }
 
+namespace {
+
+// How many points of the Sobol sequence a design holds: its own points are the sequence's first
+// ones, and replicates (a point again) and adaptive picks (off the sequence) are not among them.
+int sobolPointsOf(const Design& units, int k) {
+    const auto seq = sobol(static_cast<int>(units.size()), k, 0);
+    int n = 0;
+    for (const auto& p : seq) {
+        const bool held = std::any_of(units.begin(), units.end(), [&](const auto& u) { return distance2(u, p) < 1e-12; });
+        if (!held) break;
+        ++n;
+    }
+    return n;
+}
+
+}  // namespace
+
 // Adds n points without repeating any: the Sobol sequence continues where the campaign stopped;
 // a Latin hypercube is augmented into the strata its points leave free; adaptive points go where
 // a kriging model of the finished runs is least sure.
@@ -362,7 +382,8 @@ nlohmann::json extendCampaign(const CampaignPlace& o, int n, bool adaptive) {
                            {"max_sd_log_before", batch.maxSdBefore},
                            {"picks", picks}};
     } else {
-        unit = c.design == "sobol" ? sobol(n, k, static_cast<int>(runs.size()))
+        // A Sobol design continues its own sequence: replicates and adaptive picks are not of it.
+        unit = c.design == "sobol" ? sobol(n, k, sobolPointsOf(old, k))
                                    : augmentLatinHypercube(old, n, c.seed + runs.size());
     }
     const auto points = pointsOf(space, c.sceneJson, unit);

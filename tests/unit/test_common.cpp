@@ -3,6 +3,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <string>
+#include <thread>
+#include <vector>
 
 #include "common/atomic_file.hpp"
 #include "common/hash.hpp"
@@ -36,6 +39,26 @@ TEST(Common, AtomicWriteLeavesNoTemp) {
     writeFileAtomic(dir / "f.txt", "world");
     EXPECT_EQ(readFile(dir / "f.txt"), "world");
     int n = 0;
+    for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++n;
+    EXPECT_EQ(n, 1);
+    // Threads writing one file at once never share a temporary: the file ends whole, as one of them wrote it.
+    std::vector<std::thread> writers;
+    for (int t = 0; t < 4; ++t)
+        writers.emplace_back([&, t] {
+            for (int i = 0; i < 50; ++i) writeFileAtomic(dir / "f.txt", std::string(1000, static_cast<char>('a' + t)));
+        });
+    for (auto& w : writers) w.join();
+    const auto text = readFile(dir / "f.txt");
+    ASSERT_EQ(text.size(), 1000u);
+    EXPECT_EQ(text, std::string(1000, text.front()));
+    // A file that cannot be written names itself and leaves nothing behind.
+    try {
+        writeFileAtomic(dir / "no-such-folder" / "g.txt", "x");
+        FAIL();
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("g.txt"), std::string::npos) << e.what();
+    }
+    n = 0;
     for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++n;
     EXPECT_EQ(n, 1);
     std::filesystem::remove_all(dir);

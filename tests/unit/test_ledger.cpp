@@ -14,6 +14,7 @@
 #include "store/ledger.hpp"
 #include "campaign/campaign.hpp"
 #include "campaign/campaign_table.hpp"
+#include "table.hpp"
 #include "studies/fidelity_pilot.hpp"
 #include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
@@ -219,6 +220,27 @@ TEST(Ledger, ReplicatesAndTheirNoise) {
     EXPECT_EQ(table.rows.size(), 4u);
     EXPECT_EQ(table.replicates, 2u);
     EXPECT_EQ(provenance["replicates_left_out"], 2);
+    // The same through the CSV route (campaign export, then surrogate fit --table).
+    ex::exportCampaignCsv(spec.place, dir / "rep.csv");
+    const auto csv = mixload::surrogates::readTable(dir / "rep.csv");
+    EXPECT_EQ(csv.rows.size(), 4u);
+    EXPECT_EQ(csv.replicates, 2u);
+    // An extension continues the Sobol sequence after the design's own 6 points, not after the 8
+    // rows the replicates make: the points a design of 8 would have had.
+    ex::extendCampaign(spec.place, 2, false);
+    ex::CampaignSpec eight = spec;
+    eight.place = {"eight", dir.string()};
+    eight.n = 8;
+    ex::createCampaign(eight);
+    const auto paramsAt = [](const std::string& name, const fs::path& ledger, int index) {
+        for (const auto& r : Ledger(ledger).runs(name))
+            if (r.index == index) return r.params;
+        return nlohmann::json();
+    };
+    for (int k = 0; k < 2; ++k)
+        for (const char* p : {"rpm", "feed_kg_h"})
+            EXPECT_DOUBLE_EQ(paramsAt("rep", spec.place.ledger(), 8 + k)[p].get<double>(),
+                             paramsAt("eight", eight.place.ledger(), 6 + k)[p].get<double>()) << p;
     fs::remove_all(dir);
 }
 
