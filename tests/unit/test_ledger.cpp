@@ -331,6 +331,31 @@ TEST(Ledger, WarmStartTakesTheRunWhoseLoadingIsNearestTheModelsPrediction) {
     EXPECT_EQ(ex::campaignWarmSource(spec.place, 7).filename(), "run3");
     finish(6);
     EXPECT_EQ(ex::campaignWarmSource(spec.place, 7).filename(), "run2");
+    // Replicates are no starts: one from another deposit may sit in another steady state. Each of
+    // the six is replicated and finishes at its point's loading; with run 2 gone from the machine,
+    // its replicate (same place, same loading) would be the start if replicates counted.
+    ex::replicateCampaign(spec.place, 6, 0.5);
+    {
+        Ledger l(spec.place.ledger());
+        std::vector<long> design;
+        while (const auto c = l.claimNext("warm", 2, false)) {
+            if (!mixload::store::isReplicate(*c)) {
+                design.push_back(c->id);
+                continue;
+            }
+            const fs::path run = dir / ("rep" + std::to_string(c->index));
+            fs::create_directories(run);
+            mixload::writeFileAtomic(run / "result.json", "{}");
+            l.markDone(c->id, {{"loading_kg", c->params["feed_kg_h"].get<double>() / 100}, {"steady", true}}, 1, 1, run.string());
+        }
+        for (const long id : design) l.release(id);
+        EXPECT_EQ(design.size(), 2u);
+    }
+    fs::remove(dir / "run2" / "result.json");
+    const auto start = ex::campaignWarmSource(spec.place, 7).filename().string();
+    EXPECT_EQ(start.rfind("run", 0), 0u) << start;
+    EXPECT_NE(start, "run2");
+    mixload::writeFileAtomic(dir / "run2" / "result.json", "{}");
     EXPECT_THROW(ex::campaignWarmSource(spec.place, 99), mixload::InputError);
     // A hold-out campaign with nothing finished of its own starts from the training campaign's runs
     // (--warm-from-campaign): each point takes the training run whose loading is nearest the
