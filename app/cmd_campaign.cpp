@@ -93,11 +93,11 @@ int printRun(const CampaignCmd& o) {
                   << " failed, " << counts["queued"] << " queued"
                   << (j["stopped_at_max_hours"].get<bool>() ? " (stopped at --max-hours; run again to continue)" : "")
                   << '\n';
-    // Exit 1 says why on stderr too, with --json as without.
+    // Exit 1 says why on stderr too, with --json as without (an unrecorded result has said so already).
     if (counts["failed"].get<int>() > 0)
         std::cerr << "mixload: campaign " << o.spec.place.name << ": " << counts["failed"]
                   << " runs failed; their errors are in `mixload campaign status " << o.spec.place.name << "`\n";
-    return counts["failed"].get<int>() > 0 ? 1 : 0;
+    return counts["failed"].get<int>() > 0 || j["unrecorded_results"].get<int>() > 0 ? 1 : 0;
 }
 
 }  // namespace

@@ -587,6 +587,7 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
     const nlohmann::json before = ledger->status(place.name);
     std::atomic<size_t> finished{before["done"].get<size_t>() + before["failed"].get<size_t>()};
     std::atomic<bool> stopped{false};
+    std::atomic<int> unrecorded{0};
     std::mutex m;
     Progress bar("campaign " + place.name, o.progress);
     bar.update(double(finished) / total, std::to_string(finished.load()) + "/" + std::to_string(total));
@@ -601,20 +602,17 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
             if (!r) return;
             const bool retry = r->attempts > 1;
             bool done = false;
+            nlohmann::json res;
             try {
                 // A replicate's deposit is the point of its run: it never starts warm.
                 const fs::path warm = (o.warmNearest || !o.warmFrom.empty()) && !store::isReplicate(*r)
                                           ? warmSourceFor(l.runs(place.name), space, *r, warmRuns)
                                           : fs::path();
-                const nlohmann::json res =
-                    c.scene == "mixer"
-                        ? runPoint<run::MixerJob>(mixerSceneFor(c.sceneJson, r->params), retry, o.np,
-                                                  o.snapshots, home, r->index, deadline, run::runMixer, warm)
-                        : runPoint<run::CollapseJob>(collapseSceneFor(c.sceneJson, r->params), retry,
-                                                     o.np, o.snapshots, home, r->index, deadline, run::runCollapse);
-                l.markDone(r->id, store::runQois(c.scene, res), res.value("wall_seconds", 0.0),
-                           res.value("core_seconds", res.value("wall_seconds", 0.0) * o.np),
-                           res.value("run_dir", std::string()));
+                res = c.scene == "mixer"
+                          ? runPoint<run::MixerJob>(mixerSceneFor(c.sceneJson, r->params), retry, o.np,
+                                                    o.snapshots, home, r->index, deadline, run::runMixer, warm)
+                          : runPoint<run::CollapseJob>(collapseSceneFor(c.sceneJson, r->params), retry,
+                                                       o.np, o.snapshots, home, r->index, deadline, run::runCollapse);
                 done = true;
             } catch (const DeadlineReached&) {
                 l.release(r->id);  // resumes in the next slice
@@ -623,6 +621,22 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
             } catch (const std::exception& e) {
                 l.markFailed(r->id, e.what(), /*failed=*/r->attempts >= 2);
                 if (r->attempts < 2) continue;
+            }
+            if (done) {
+                // The result is in its run directory now: a ledger that cannot take it (busy, disk
+                // full) must not turn a finished run into a failed one or a rerun. The row stays
+                // running; the next `campaign run` requeues it and takes the finished result.
+                try {
+                    l.markDone(r->id, store::runQois(c.scene, res), res.value("wall_seconds", 0.0),
+                               res.value("core_seconds", res.value("wall_seconds", 0.0) * o.np),
+                               res.value("run_dir", std::string()));
+                } catch (const std::exception& e) {
+                    std::cerr << "mixload: the ledger did not take point " << r->index << "'s finished result ("
+                              << e.what() << "); it stays in " << res.value("run_dir", std::string())
+                              << " and the next campaign run records it\n";
+                    ++unrecorded;
+                    return;
+                }
             }
             std::lock_guard<std::mutex> g(m);
             if (o.snapshots && done) {
@@ -645,7 +659,7 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
     bar.finish();
     const nlohmann::json counts = ledger->status(place.name);
     return {{"campaign", place.name}, {"counts", counts}, {"recovered", recovered},
-            {"stopped_at_max_hours", stopped.load()},
+            {"stopped_at_max_hours", stopped.load()}, {"unrecorded_results", unrecorded.load()},
             {"wall_seconds", secondsSince(start)}};
 }
 
