@@ -291,6 +291,14 @@ std::vector<store::LedgerRun> warmPool(const store::CampaignInfo& c, const std::
         // A start's fields must be of the run's own mesh and scene: the same base, whatever the design.
         if (other.sceneJson != c.sceneJson)
             throw InputError("warm-from-campaign", p.name, "a campaign on the same base scene and mesh as " + c.name);
+        // Its runs are placed in this campaign's design space, so they must carry its inputs.
+        const auto names = [](const ParameterSpace& s) {
+            std::set<std::string> n;
+            for (const auto& q : s.params) n.insert(q.name);
+            return n;
+        };
+        if (names(rangesOf(other, p.name)) != names(rangesOf(c, c.name)))
+            throw InputError("warm-from-campaign", p.name, "a campaign that varies the same inputs as " + c.name);
         for (auto& r : l->runs(p.name))
             if (r.status == "done") pool.push_back(std::move(r));
     }

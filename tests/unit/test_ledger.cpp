@@ -393,5 +393,13 @@ TEST(Ledger, WarmStartTakesTheRunWhoseLoadingIsNearestTheModelsPrediction) {
     other.cellSize = 0.02;
     ex::createCampaign(other);
     EXPECT_THROW(ex::campaignWarmSource(hold.place, 0, {other.place}), mixload::InputError);
+    // So is one on the same base that varies other inputs: its runs have no place in this design.
+    const fs::path rpmOnly = dir / "rpm.toml";
+    mixload::writeFileAtomic(rpmOnly, "scene = \"mixer\"\n[rpm]\nmin = 39\nmax = 254\nunit = \"rpm\"\n");
+    ex::CampaignSpec speed = spec;
+    speed.place.name = "speed";
+    speed.ranges = rpmOnly.string();
+    ex::createCampaign(speed);
+    EXPECT_THROW(ex::campaignWarmSource(hold.place, 0, {speed.place}), mixload::InputError);
     fs::remove_all(dir);
 }
