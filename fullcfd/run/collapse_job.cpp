@@ -34,6 +34,7 @@ nlohmann::json runCollapse(const CollapseJob& job) {
     const auto t0 = std::chrono::steady_clock::now();
     // --rerun starts over; otherwise a case that has a mesh resumes from its latest time.
     const bool fresh = !job.reuse || !fs::exists(dir / "constant" / "polyMesh");
+    double meshSeconds = 0;  // serial, before the solver holds np cores
     if (fresh) {
         buildCaseAtomically(dir, [&](const fs::path& tmp) {
             cases::writeCollapseCase(s, tmp, job.np);
@@ -41,6 +42,7 @@ nlohmann::json runCollapse(const CollapseJob& job) {
                             nlohmann::json{{"hash", s.hash()}, {"scene", s.toJson()}}.dump(2));
             runUtility(tmp, {"blockMesh"});
         });
+        meshSeconds = secondsSince(t0);
     }
 
     SolverRun r;
@@ -50,7 +52,18 @@ nlohmann::json runCollapse(const CollapseJob& job) {
     r.progress = job.progress;
     r.deadline = job.deadline;
     r.label = "collapse a=" + formatNumber(s.aspect);
-    const double solverWall = runSolver(r);
+    // Every process that works on the run counts its time (a campaign stopped at --max-hours
+    // resumes it in another), as for the mixer.
+    RunSlices slices(dir, job.np);
+    const auto tSolver = std::chrono::steady_clock::now();
+    double solverWall = 0;
+    try {
+        solverWall = runSolver(r);
+    } catch (...) {
+        slices.close(secondsSince(t0), meshSeconds + secondsSince(tSolver) * job.np);
+        throw;
+    }
+    const auto total = slices.close(secondsSince(t0), meshSeconds + solverWall * job.np);
 
     nlohmann::json result = post::collapseResult(s, dir);
     // A collapse that lost powder has no runout to report: refuse it rather than write a result
@@ -66,8 +79,10 @@ nlohmann::json runCollapse(const CollapseJob& job) {
                                   " column lengths of runout)"
                             : "") +
                        "; no result written, the fields are in " + dir.string());
-    result["wall_seconds"] =
-        secondsSince(t0);
+    result["wall_seconds"] = total["wall_seconds"];
+    result["core_seconds"] = total["core_seconds"];
+    result["slices"] = total["slices"];
+    result["slice_wall_seconds"] = secondsSince(t0);
     result["solver_wall_seconds"] = solverWall;
     result["np"] = job.np;
     result["resumed"] = !fresh;

@@ -175,15 +175,18 @@ TEST(CampaignCli, DriverKilledWithSigkillFinishesEveryRunOnce) {
     ASSERT_EQ(r.rc, 0) << r.err;
     EXPECT_TRUE(nlohmann::json::parse(r.out)["integrity_ok"].get<bool>());
     // Exactly one finished directory per point: no temp, failed or duplicate cases.
-    int dirs = 0;
+    int dirs = 0, slices = 0;
     for (const auto& e : fs::directory_iterator(dir / "k" / "runs")) {
         ++dirs;
         const std::string name = e.path().filename().string();
         EXPECT_EQ(name.find(".tmp"), std::string::npos) << name;
         EXPECT_EQ(name.find(".failed"), std::string::npos) << name;
-        EXPECT_TRUE(fs::exists(e.path() / "result.json")) << name;
+        ASSERT_TRUE(fs::exists(e.path() / "result.json")) << name;
+        slices += nlohmann::json::parse(readFile(e.path() / "result.json")).value("slices", 0);
     }
     EXPECT_EQ(dirs, 3);
+    // The killed process's time counts in its point's result, beside the one that finished it.
+    EXPECT_EQ(slices, 4);
 }
 
 TEST(CampaignCli, MaxHoursStopsTheSolverAndRequeues) {
