@@ -54,16 +54,7 @@ nlohmann::json runCollapse(const CollapseJob& job) {
     r.label = "collapse a=" + formatNumber(s.aspect);
     // Every process that works on the run counts its time (a campaign stopped at --max-hours
     // resumes it in another), as for the mixer.
-    RunSlices slices(dir, job.np);
-    const auto tSolver = std::chrono::steady_clock::now();
-    double solverWall = 0;
-    try {
-        solverWall = runSolver(r);
-    } catch (...) {
-        slices.close(secondsSince(t0), meshSeconds + secondsSince(tSolver) * job.np);
-        throw;
-    }
-    const auto total = slices.close(secondsSince(t0), meshSeconds + solverWall * job.np);
+    const auto [solverWall, total] = runSolverCounted(r, t0, meshSeconds);
 
     nlohmann::json result = post::collapseResult(s, dir);
     // A collapse that lost powder has no runout to report: refuse it rather than write a result

@@ -216,18 +216,7 @@ nlohmann::json runMixer(const MixerJob& job) {
     r.progress = job.progress;
     r.deadline = job.deadline;
     r.label = "mixer " + s.method;
-    RunSlices slices(dir, job.np);
-    const auto tSolver = std::chrono::steady_clock::now();
-    double solverWall = 0;
-    try {
-        solverWall = runSolver(r);
-    } catch (...) {
-        // Stopped at a deadline, or failed: the next process resumes here and counts this time.
-        slices.close(secondsSince(t0), meshSeconds + secondsSince(tSolver) * job.np);
-        throw;
-    }
-    // Meshing runs serial; the solver holds np cores.
-    const auto total = slices.close(secondsSince(t0), meshSeconds + solverWall * job.np);
+    const auto [solverWall, total] = runSolverCounted(r, t0, meshSeconds);
 
     nlohmann::json result = post::mixerResult(s, dir);
     const auto mesh = nlohmann::json::parse(readFile(dir / "mesh.json"));

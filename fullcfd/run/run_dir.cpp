@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "common/atomic_file.hpp"
+#include "common/clock.hpp"
 #include "common/input_error.hpp"
 #include "mixload_version.hpp"
 #include "post/snapshots.hpp"
@@ -122,6 +123,21 @@ nlohmann::json RunSlices::close(double wallSeconds, double coreSeconds) {
     double wall = 0, core = 0;
     for (const auto& x : slices_) wall += x.value("wall_seconds", 0.0), core += x.value("core_seconds", 0.0);
     return {{"wall_seconds", wall}, {"core_seconds", core}, {"slices", slices_.size()}};
+}
+
+CountedSolve runSolverCounted(const SolverRun& r, std::chrono::steady_clock::time_point t0, double meshSeconds) {
+    RunSlices slices(r.caseDir, r.np);
+    const auto tSolver = std::chrono::steady_clock::now();
+    CountedSolve out;
+    try {
+        out.solverWall = runSolver(r);
+    } catch (...) {
+        // Stopped at a deadline, or failed: the next process resumes here and counts this time.
+        slices.close(secondsSince(t0), meshSeconds + secondsSince(tSolver) * r.np);
+        throw;
+    }
+    out.total = slices.close(secondsSince(t0), meshSeconds + out.solverWall * r.np);
+    return out;
 }
 
 }  // namespace mixload::run

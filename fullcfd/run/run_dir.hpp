@@ -2,6 +2,7 @@
 // What every full run does with its directory: refuse one that belongs to another scene, reuse a
 // finished result, build a new case atomically, stamp results with provenance.
 #pragma once
+#include <chrono>
 #include <filesystem>
 #include <functional>
 #include <optional>
@@ -54,6 +55,18 @@ private:
     std::filesystem::path file_;
     nlohmann::json slices_;
 };
+
+struct SolverRun;
+
+// Runs the solver as this process's slice of the run (RunSlices), closed whether the solver
+// finishes, stops at its deadline or fails. t0: when this process began on the run; meshSeconds:
+// the serial meshing before the solver held its np cores. Returns the solver's wall seconds and the
+// run's totals (RunSlices::close).
+struct CountedSolve {
+    double solverWall = 0;
+    nlohmann::json total;
+};
+CountedSolve runSolverCounted(const SolverRun& r, std::chrono::steady_clock::time_point t0, double meshSeconds);
 
 // Adds run_dir, scene_hash, mixload_version, git_commit and openfoam_version.
 void stampProvenance(nlohmann::json& result, const std::filesystem::path& dir,
