@@ -18,14 +18,21 @@ namespace {
 
 struct Kept {
     std::optional<SnapshotFile> file;
+    bool hasMean = false;  // the file has an alpha_window_mean field
     std::map<int, std::pair<size_t, nlohmann::json>> byIndex;  // run index -> (column, record)
 };
+
+bool hasField(const SnapshotFile& f, const std::string& name) {
+    const auto names = f.fields();
+    return std::find(names.begin(), names.end(), name) != names.end();
+}
 
 Kept readKept(const fs::path& ledger) {
     Kept k;
     const fs::path f = campaignFieldsFile(ledger);
     if (!fs::exists(f)) return k;
     k.file.emplace(f);
+    k.hasMean = hasField(*k.file, "alpha_window_mean");
     const auto runs = nlohmann::json::parse(k.file->provenance().at("kept_runs").get<std::string>());
     for (size_t i = 0; i < runs.size(); ++i) k.byIndex[runs[i].at("index").get<int>()] = {i, runs[i]};
     return k;
@@ -36,27 +43,22 @@ double bulkDensityOf(const CaseFile& f) {
     return p.contains("material.bulk_density_kg_m3") ? p["material.bulk_density_kg_m3"].get<double>() : 0.0;
 }
 
-bool hasField(const SnapshotFile& f, const std::string& name) {
-    const auto names = f.fields();
-    return std::find(names.begin(), names.end(), name) != names.end();
-}
 bool hasVelocity(const SnapshotFile& f) { return hasField(f, "U"); }
 
 // The window mean kept for a run, when the file holds a whole one: a column of NaN stands for a run
 // kept without it (found in v2c-holdout's file beside records that claimed one).
 std::optional<Eigen::VectorXd> keptWindowMean(const Kept& k, const std::pair<size_t, nlohmann::json>& kept) {
-    if (kept.second.value("window_times", 0) <= 0 || !hasField(*k.file, "alpha_window_mean")) return std::nullopt;
+    if (kept.second.value("window_times", 0) <= 0 || !k.hasMean) return std::nullopt;
     Eigen::VectorXd m = k.file->column("alpha_window_mean", kept.first);
     if (!m.allFinite()) return std::nullopt;
     return m;
 }
 
 // Whether the kept file holds all a run directory would give: the velocity, and the window mean
-// or the finding that the run's snapshots hold too few times for one.
-bool keptWhole(const Kept& k, const std::pair<size_t, nlohmann::json>& kept) {
-    const auto& rec = kept.second;
-    return rec.value("velocity", false) && rec.contains("window_times") &&
-           (rec.value("window_times", 0) == 0 || keptWindowMean(k, kept).has_value());
+// (as keptWindowMean read it) or the finding that the run's snapshots hold too few times for one.
+bool keptWhole(const nlohmann::json& record, const std::optional<Eigen::VectorXd>& mean) {
+    return record.value("velocity", false) && record.contains("window_times") &&
+           (record.value("window_times", 0) == 0 || mean.has_value());
 }
 
 bool hasSnapshots(const LedgerRun& r) { return !r.runDir.empty() && fs::exists(fs::path(r.runDir) / "snapshots.h5"); }
@@ -112,7 +114,7 @@ nlohmann::json keepCampaignFields(const fs::path& ledger, const std::string& cam
         const auto keptMean = inKept ? keptWindowMean(kept, it->second) : std::nullopt;
         const bool keptWithMean = keptMean.has_value();
         // A kept run is read again from its directory only for what the file lacks and the directory has.
-        if (inKept && (!hasSnapshots(r) || keptWhole(kept, it->second))) {
+        if (inKept && (!hasSnapshots(r) || keptWhole(it->second.second, keptMean))) {
             indices.push_back(r.index);
             alphas.push_back(kept.file->column("alpha", it->second.first));
             velocities.push_back(keptU ? kept.file->column("U", it->second.first)
@@ -187,21 +189,22 @@ FinalFields campaignFinalFields(const fs::path& ledger, const std::string& campa
         // The kept file gives what the run directory would (checked to every digit) in one read, so
         // it serves when it holds the run whole (velocity and window mean); the directory serves the rest.
         const auto it = kept.byIndex.find(r.index);
-        if (hasSnapshots(r) && !(it != kept.byIndex.end() && keptWhole(kept, it->second))) {
+        const bool inKept = it != kept.byIndex.end();
+        const auto keptMean = inKept ? keptWindowMean(kept, it->second) : std::nullopt;
+        if (hasSnapshots(r) && !(inKept && keptWhole(it->second.second, keptMean))) {
             const SnapshotFile f(fs::path(r.runDir) / "snapshots.h5");
             sameMesh(f);
             const size_t last = f.times().size() - 1;
             auto [mean, times] = windowMean(f, r);
             out.runs.push_back({r, f.column("alpha", last), hasVelocity(f) ? f.column("U", last) : Eigen::VectorXd(), bulkDensityOf(f),
                                 std::move(mean), times});
-        } else if (it != kept.byIndex.end()) {
+        } else if (inKept) {
             sameMesh(*kept.file);
             const bool withU = it->second.second.value("velocity", false);
-            const auto mean = keptWindowMean(kept, it->second);
             out.runs.push_back({r, kept.file->column("alpha", it->second.first),
                                 withU ? kept.file->column("U", it->second.first) : Eigen::VectorXd(),
-                                it->second.second.value("bulk_density_kg_m3", 0.0), mean.value_or(Eigen::VectorXd()),
-                                mean ? it->second.second.value("window_times", 0) : 0});
+                                it->second.second.value("bulk_density_kg_m3", 0.0), keptMean.value_or(Eigen::VectorXd()),
+                                keptMean ? it->second.second.value("window_times", 0) : 0});
         }
     }
     if (out.runs.empty())
