@@ -60,6 +60,9 @@ int printStatus(const CampaignCmd& o) {
               << j["design"].get<std::string>() << ", " << j["points"] << " points): " << n["done"] << " done, "
               << n["running"] << " running, " << n["queued"] << " queued, " << n["failed"] << " failed; "
               << j["core_seconds_done"].get<double>() << " core-seconds so far\n";
+    if (n["running"].get<int>() > 0 && j["driver_running"] == false)
+        std::cout << "no driver is running: the " << n["running"]
+                  << " running rows were left by one that stopped, and the next campaign run resumes them\n";
     return 0;
 }
 

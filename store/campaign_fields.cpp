@@ -168,6 +168,30 @@ nlohmann::json keepCampaignFields(const fs::path& ledger, const std::string& cam
             {"zones_added", zonesAdded}};
 }
 
+std::set<int> keptRunIndices(const fs::path& ledger) {
+    std::set<int> out;
+    for (const auto& [index, kept] : readKept(ledger).byIndex) out.insert(index);
+    return out;
+}
+
+bool writeKeptRunFields(const fs::path& ledger, int index, const fs::path& file) {
+    const Kept kept = readKept(ledger);
+    const auto it = kept.byIndex.find(index);
+    if (it == kept.byIndex.end()) return false;
+    if (fs::exists(file)) return true;
+    const auto& [column, record] = it->second;
+    std::vector<std::pair<std::string, Eigen::MatrixXd>> fields{{"alpha", kept.file->column("alpha", column)}};
+    if (record.value("velocity", false) && hasVelocity(*kept.file)) {
+        Eigen::VectorXd U = kept.file->column("U", column);
+        if (U.allFinite()) fields.emplace_back("U", std::move(U));
+    }
+    writeDerivedSnapshots(*kept.file, {record.value("time_s", 0.0)}, fields,
+                          {{"kind", "kept run fields"}, {"kept_from", campaignFieldsFile(ledger).string()},
+                           {"run_index", index}},
+                          file);
+    return true;
+}
+
 FinalFields campaignFinalFields(const fs::path& ledger, const std::string& campaign) {
     const auto runs = finishedCampaignRuns(ledger, campaign);
     const Kept kept = readKept(ledger);

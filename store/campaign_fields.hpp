@@ -8,6 +8,7 @@
 // 0.02 MB, against a few MB for a run's own snapshots.h5.
 #pragma once
 #include <filesystem>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,14 @@ std::filesystem::path campaignFieldsFile(const std::filesystem::path& ledger);
 // file is rewritten whole, atomically). Returns {file, kept, added}. Throws InputError when there is
 // nothing to keep, or a run's mesh differs from the kept ones.
 nlohmann::json keepCampaignFields(const std::filesystem::path& ledger, const std::string& campaign);
+
+// The design indices of the runs the campaign's kept fields file holds (none without the file).
+std::set<int> keptRunIndices(const std::filesystem::path& ledger);
+
+// One kept run's final fields as a field file of its own (the powder fraction, and the velocity
+// when kept, at the run's final time): a warm start for a point whose source run directory is gone.
+// Written once, atomically, and reused. False when the kept file does not hold the run.
+bool writeKeptRunFields(const std::filesystem::path& ledger, int index, const std::filesystem::path& file);
 
 struct FinalField {
     LedgerRun run;

@@ -17,6 +17,7 @@
 #include "campaign/retry.hpp"
 #include "common/atomic_file.hpp"
 #include "common/clock.hpp"
+#include "common/file_lock.hpp"
 #include "common/input_error.hpp"
 #include "common/process.hpp"
 #include "common/progress.hpp"
@@ -232,59 +233,89 @@ double distance2(const std::vector<double>& a, const std::vector<double>& b) {
     return d2;
 }
 
-// Where a mixer design point starts under --warm-nearest: the run directory of a finished run of
-// the campaign, or empty (the deposit). Directories no longer on this machine (a ledger carried
-// over) are passed over. With five steady runs or more, a kriging model of their log loading
-// predicts the point's loading, and the steady run whose loading is nearest that prediction is
-// taken: the loading is what a start has to get right, and it varies far more along some inputs
-// (the speed) than along others. With fewer, the nearest finished run in the design's unit cube,
-// steady or stopped at its time cap, and also when no model fits the steady runs.
-fs::path warmSourceFor(const std::vector<store::LedgerRun>& runs, const ParameterSpace& space,
-                       const store::LedgerRun& r, const std::vector<store::LedgerRun>& pool = {}) {
+// A finished run of a campaign that may serve as a start, with the ledger whose kept fields hold
+// it when its run directory is gone.
+struct WarmRun {
+    store::LedgerRun run;
+    fs::path ledger;
+};
+
+// Where a mixer design point starts under --warm-nearest: a finished run of the campaign (or of
+// the pool), or empty (the deposit). A run serves from its directory, or, when the directory is no
+// longer on this machine (a ledger carried over, a machine that came back empty), from its kept
+// final fields, written out as a field file under <home>/warm. With five steady runs or more, a
+// kriging model of their log loading predicts the point's loading, and the steady run whose
+// loading is nearest that prediction is taken: the loading is what a start has to get right, and
+// it varies far more along some inputs (the speed) than along others. With fewer, the nearest
+// finished run in the design's unit cube, steady or stopped at its time cap, and also when no
+// model fits the steady runs.
+fs::path warmSourceFor(const std::vector<store::LedgerRun>& runs, const fs::path& home, const ParameterSpace& space,
+                       const store::LedgerRun& r, const std::vector<WarmRun>& pool = {}) {
     const auto at = unitOf(space, r);
     // Not from a replicate: one started from another deposit may sit in another steady state (a
     // factor 3.4 apart at v2c-holdout's 247 rpm point), the very thing it was run to show.
-    std::vector<const store::LedgerRun*> candidates;
+    std::vector<WarmRun> candidates;
     for (const auto& o : runs)
-        if (o.index != r.index && !store::isReplicate(o)) candidates.push_back(&o);
+        if (o.index != r.index && !store::isReplicate(o)) candidates.push_back({o, home / "ledger.sqlite"});
     for (const auto& o : pool)
-        if (!store::isReplicate(o)) candidates.push_back(&o);
+        if (!store::isReplicate(o.run)) candidates.push_back(o);
+    // Where a candidate's start lies: its directory, else its kept fields, else nowhere.
+    std::map<fs::path, std::set<int>> kept;  // ledger -> indices its fields file holds
+    const auto keptIn = [&](const fs::path& ledger) -> const std::set<int>& {
+        auto it = kept.find(ledger);
+        if (it == kept.end()) it = kept.emplace(ledger, store::keptRunIndices(ledger)).first;
+        return it->second;
+    };
+    const auto source = [&](const WarmRun& w) -> std::optional<WarmRun> {
+        std::error_code ec;
+        if (!w.run.runDir.empty() && fs::exists(fs::path(w.run.runDir) / "result.json", ec)) return w;
+        if (keptIn(w.ledger).count(w.run.index)) return w;
+        return std::nullopt;
+    };
     Design units;
     std::vector<double> logM;
-    std::vector<fs::path> dirs;
-    fs::path nearest;
+    std::vector<WarmRun> starts;
+    std::optional<WarmRun> nearest;
     double nearestD2 = 1e300;
-    for (const auto* p : candidates) {
-        const auto& o = *p;
-        if (o.status != "done" || o.runDir.empty()) continue;
-        std::error_code ec;
-        if (!fs::exists(fs::path(o.runDir) / "result.json", ec)) continue;
-        auto u = unitOf(space, o);
+    for (const auto& c : candidates) {
+        if (c.run.status != "done") continue;
+        const auto s = source(c);
+        if (!s) continue;
+        auto u = unitOf(space, c.run);
         const double d2 = distance2(u, at);
-        if (d2 < nearestD2) nearestD2 = d2, nearest = o.runDir;
-        if (const auto m = runQuantity(o, "mixer")) {
+        if (d2 < nearestD2) nearestD2 = d2, nearest = s;
+        if (const auto m = runQuantity(c.run, "mixer")) {
             units.push_back(std::move(u));
             logM.push_back(std::log(*m));
-            dirs.push_back(o.runDir);
+            starts.push_back(*s);
         }
     }
-    if (units.size() < 5) return nearest;
+    const auto path = [&](const std::optional<WarmRun>& w) -> fs::path {
+        if (!w) return {};
+        std::error_code ec;
+        if (!w->run.runDir.empty() && fs::exists(fs::path(w->run.runDir) / "result.json", ec)) return w->run.runDir;
+        // Named by the source campaign's ledger and the run's index: one file per kept run.
+        const fs::path file = home / "warm" /
+                              (w->ledger.parent_path().filename().string() + "-" + std::to_string(w->run.index) + ".h5");
+        fs::create_directories(file.parent_path());
+        store::writeKeptRunFields(w->ledger, w->run.index, file);
+        return file;
+    };
+    if (units.size() < 5) return path(nearest);
     double predicted = 0;
     try {
         predicted = mostUncertain(units, logM, {}, {at}, 1).picks.front().mean;
     } catch (const std::exception&) {
-        return nearest;  // no model fits these runs: only the start is at stake, and it is recorded
+        return path(nearest);  // no model fits these runs: only the start is at stake, and it is recorded
     }
     size_t best = 0;
     for (size_t i = 1; i < logM.size(); ++i)
         if (std::abs(logM[i] - predicted) < std::abs(logM[best] - predicted)) best = i;
-    return dirs[best];
+    return path(starts[best]);
 }
 
-}  // namespace
-
-std::vector<store::LedgerRun> warmPool(const store::CampaignInfo& c, const std::vector<CampaignPlace>& from) {
-    std::vector<store::LedgerRun> pool;
+std::vector<WarmRun> warmPool(const store::CampaignInfo& c, const std::vector<CampaignPlace>& from) {
+    std::vector<WarmRun> pool;
     for (const auto& p : from) {
         std::unique_ptr<store::Ledger> l;
         const auto other = openCampaign(p, l);
@@ -300,10 +331,12 @@ std::vector<store::LedgerRun> warmPool(const store::CampaignInfo& c, const std::
         if (names(rangesOf(other, p.name)) != names(rangesOf(c, c.name)))
             throw InputError("warm-from-campaign", p.name, "a campaign that varies the same inputs as " + c.name);
         for (auto& r : l->runs(p.name))
-            if (r.status == "done") pool.push_back(std::move(r));
+            if (r.status == "done") pool.push_back({std::move(r), p.ledger()});
     }
     return pool;
 }
+
+}  // namespace
 
 fs::path campaignWarmSource(const CampaignPlace& place, int index, const std::vector<CampaignPlace>& from) {
     std::unique_ptr<store::Ledger> l;
@@ -312,7 +345,7 @@ fs::path campaignWarmSource(const CampaignPlace& place, int index, const std::ve
     const auto runs = l->runs(place.name);
     const auto pool = warmPool(c, from);
     for (const auto& r : runs)
-        if (r.index == index) return warmSourceFor(runs, space, r, pool);
+        if (r.index == index) return warmSourceFor(runs, place.home(), space, r, pool);
     throw InputError("index", std::to_string(index), "a point of campaign " + place.name);
 }
 
@@ -512,6 +545,14 @@ nlohmann::json campaignStatus(const CampaignPlace& o) {
                        {"wall_seconds_done", wall}, {"core_seconds_done", core},
                        {"integrity_ok", l->integrityOk()}, {"created", c.created},
                        {"mixload_version", c.mixloadVersion}, {"git_commit", c.gitCommit}};
+    // Whether a driver holds the campaign now: a row left "running" by a driver that died is only
+    // requeued by the next `campaign run`, and until then looks like a live one.
+    try {
+        const FileLock probe(o.home() / "driver.lock", FileLock::Mode::tryOnce);
+        out["driver_running"] = !probe.held();
+    } catch (const std::exception&) {
+        out["driver_running"] = nullptr;  // the lock cannot be opened (a read-only copy): unknown
+    }
     return out;
 }
 
@@ -614,7 +655,7 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
             try {
                 // A replicate's deposit is the point of its run: it never starts warm.
                 const fs::path warm = (o.warmNearest || !o.warmFrom.empty()) && !store::isReplicate(*r)
-                                          ? warmSourceFor(l.runs(place.name), space, *r, warmRuns)
+                                          ? warmSourceFor(l.runs(place.name), home, space, *r, warmRuns)
                                           : fs::path();
                 res = c.scene == "mixer"
                           ? runPoint<run::MixerJob>(mixerSceneFor(c.sceneJson, r->params), retry, o.np,

@@ -102,7 +102,8 @@ double ownTimeOrigin(const fs::path& dir) {
 }
 
 // The powder fraction of a field file (its last time: e.g. the field `mixload rom regression --at
-// ... --fields` predicts) as the initial alpha, the air at rest. There is no mapping: the file
+// ... --fields` predicts, or a campaign run's kept final fields) as the initial alpha, with the
+// file's velocity when it holds one (kept fields do), else at rest. There is no mapping: the file
 // must hold this case's mesh (the same cells and volume), which the mesh check's numbers verify.
 nlohmann::json warmStartFromField(const scene::MixerScene& s, const fs::path& caseDir, const fs::path& source) {
     const store::SnapshotFile f(source);
@@ -120,13 +121,30 @@ nlohmann::json warmStartFromField(const scene::MixerScene& s, const fs::path& ca
     values << "internalField nonuniform List<scalar>\n" << alpha.size() << "\n(\n";
     for (double a : alpha) values << std::clamp(a, 0.0, 1.0) << '\n';
     values << ");";
-    const fs::path file = caseDir / "0" / "alpha.powder";
-    std::string text = readFile(file);
-    const std::string uniform = "internalField uniform 0;";
-    text.replace(text.find(uniform), uniform.size(), values.str());
-    writeFileAtomic(file, text);
+    const auto replaceInternal = [&](const fs::path& file, const std::string& uniform, const std::string& with) {
+        std::string text = readFile(file);
+        text.replace(text.find(uniform), uniform.size(), with);
+        writeFileAtomic(file, text);
+    };
+    replaceInternal(caseDir / "0" / "alpha.powder", "internalField uniform 0;", values.str());
+    const auto fields = f.fields();
+    bool withU = false;
+    if (std::find(fields.begin(), fields.end(), store::storedFieldName("U")) != fields.end()) {
+        const Eigen::VectorXd U = f.column("U", f.times().size() - 1);
+        withU = U.size() == 3 * alpha.size() && U.allFinite();
+        if (withU) {
+            std::ostringstream u;
+            u.precision(9);
+            u << "internalField nonuniform List<vector>\n" << alpha.size() << "\n(\n";
+            for (Eigen::Index c = 0; c < alpha.size(); ++c)
+                u << '(' << U[3 * c] << ' ' << U[3 * c + 1] << ' ' << U[3 * c + 2] << ")\n";
+            u << ");";
+            replaceInternal(caseDir / "0" / "U", "internalField uniform (0 0 0);", u.str());
+        }
+    }
     return {{"warm_from", fs::absolute(source).string()},
             {"source_time_s", f.times().back()},
+            {"velocity", withU},
             {"field_loading_kg", s.bulkDensity() * alpha.cwiseMax(0.0).cwiseMin(1.0).dot(f.cellVolumes())}};
 }
 }  // namespace

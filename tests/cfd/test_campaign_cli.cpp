@@ -162,6 +162,13 @@ TEST(CampaignCli, DriverKilledWithSigkillFinishesEveryRunOnce) {
     // (up to 20 s: on a loaded machine a solver takes a while to handle its SIGTERM)
     for (int i = 0; i < 200 && !processesIn(dir).empty(); ++i) usleep(100000);
     EXPECT_TRUE(processesIn(dir).empty()) << processesIn(dir).front();
+    // The dead driver's row still reads "running"; status tells it from a live one.
+    r = runMixload({"campaign", "status", "k", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["counts"]["running"], 1) << r.out;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["driver_running"], false) << r.out;
+    r = runMixload({"campaign", "status", "k", "--dir", dir.string()});
+    EXPECT_NE(r.out.find("no driver is running"), std::string::npos) << r.out;
 
     r = runMixload({"campaign", "run", "k", "--dir", dir.string(), "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
@@ -371,6 +378,38 @@ TEST(CampaignCli, WarmNearestStartsAPointFromTheNearestFinishedRun) {
     r = runMixload({"campaign", "run", "c", "--warm-nearest", "--dir", dir.string()});
     EXPECT_EQ(r.rc, 2) << r.err;
     EXPECT_NE(r.err.find("warm-nearest"), std::string::npos) << r.err;
+}
+
+// A machine that comes back without the run directories still warm-starts: the finished run's
+// kept final fields (fields.h5 beside the ledger) become the new point's start, powder and velocity.
+TEST(CampaignCli, WarmNearestStartsFromKeptFieldsWhenTheRunDirectoryIsGone) {
+    const fs::path dir = fs::canonical(scratchDir("campaign-warm-kept"));
+    const auto ranges = rangesFile(dir, "r", "scene = \"mixer\"\n[rpm]\nmin = 39\nmax = 60\nunit = \"rpm\"\n");
+    auto r = runMixload({"campaign", "create", "k", "--ranges", ranges.string(), "--design", "sobol", "--n", "1",
+                         "--cell-size", "0.02", "--end-time", "0.05", "--dir", dir.string()});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    ASSERT_EQ(runMixload({"campaign", "run", "k", "--warm-nearest", "--snapshots", "--dir", dir.string()}).rc, 0);
+    const auto resultIn = [](const fs::path& runs) {
+        for (const auto& e : fs::directory_iterator(runs))
+            if (fs::exists(e.path() / "result.json")) {
+                std::ifstream in(e.path() / "result.json");
+                return nlohmann::json::parse(in);
+            }
+        return nlohmann::json();
+    };
+    const auto first = resultIn(dir / "k" / "runs");
+    ASSERT_TRUE(first.contains("final_loading_kg")) << first.dump();
+    fs::remove_all(dir / "k" / "runs");
+    ASSERT_EQ(runMixload({"campaign", "extend", "k", "--n", "1", "--dir", dir.string()}).rc, 0);
+    r = runMixload({"campaign", "run", "k", "--warm-nearest", "--snapshots", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["counts"]["done"], 2);
+    const auto second = resultIn(dir / "k" / "runs");
+    ASSERT_TRUE(second["start"].contains("warm_from")) << second["start"].dump();
+    EXPECT_EQ(fs::path(second["start"]["warm_from"].get<std::string>()), dir / "k" / "warm" / "k-0.h5");
+    EXPECT_TRUE(second["start"].value("velocity", false)) << second["start"].dump();
+    // The kept field is the run's last snapshot, its final time.
+    EXPECT_NEAR(second["initial_loading_kg"].get<double>(), first["final_loading_kg"].get<double>(), 1e-4);
 }
 
 TEST(CampaignCli, AMixerRunStoppedAndResumedCountsBothSlices) {
