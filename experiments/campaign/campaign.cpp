@@ -14,6 +14,7 @@
 #include <type_traits>
 
 #include "campaign/driver_lock.hpp"
+#include "campaign/progress.hpp"
 #include "campaign/retry.hpp"
 #include "common/atomic_file.hpp"
 #include "common/clock.hpp"
@@ -145,17 +146,21 @@ std::string csvField(const nlohmann::json& v) {
 
 // One design point in its own directory <home>/runs/<index>-<scene hash>; a second attempt runs the
 // retry's scene, which has a hash (and so a directory) of its own.
+template <class Scene>
+fs::path pointDir(const fs::path& home, int index, const Scene& s) {
+    return home / "runs" / (std::to_string(index) + "-" + s.hash());
+}
+
 template <class Job, class Scene, class Run>
-nlohmann::json runPoint(Scene s, bool retry, int np, bool snapshots, const fs::path& home, int index,
+nlohmann::json runPoint(const Scene& s, int np, bool snapshots, const fs::path& home, int index,
                         std::optional<std::chrono::steady_clock::time_point> deadline, Run run,
                         const fs::path& warmFrom = {}) {
-    if (retry) s = retryScene(s);
     Job job;
     if constexpr (std::is_same_v<Job, run::MixerJob>) job.warmFrom = warmFrom;
     job.scene = s;
     job.np = np;
     job.snapshots = snapshots;
-    job.out = home / "runs" / (std::to_string(index) + "-" + s.hash());
+    job.out = pointDir(home, index, s);
     job.deadline = deadline;
     return run(job);
 }
@@ -652,20 +657,36 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
             const bool retry = r->attempts > 1;
             bool done = false;
             nlohmann::json res;
+            fs::path dir;  // a mixer point's run directory
             try {
-                // A replicate's deposit is the point of its run: it never starts warm.
-                const fs::path warm = (o.warmNearest || !o.warmFrom.empty()) && !store::isReplicate(*r)
-                                          ? warmSourceFor(l.runs(place.name), home, space, *r, warmRuns)
-                                          : fs::path();
-                res = c.scene == "mixer"
-                          ? runPoint<run::MixerJob>(mixerSceneFor(c.sceneJson, r->params), retry, o.np,
-                                                    o.snapshots, home, r->index, deadline, run::runMixer, warm)
-                          : runPoint<run::CollapseJob>(collapseSceneFor(c.sceneJson, r->params), retry,
-                                                       o.np, o.snapshots, home, r->index, deadline, run::runCollapse);
+                if (c.scene == "mixer") {
+                    auto s = mixerSceneFor(c.sceneJson, r->params);
+                    if (retry) s = retryScene(s);
+                    dir = pointDir(home, r->index, s);
+                    // Its own progress first, when its directory was lost; else a replicate's deposit
+                    // is the point of its run: it never starts warm.
+                    fs::path warm = progressStart(home, r->index, dir);
+                    if (warm.empty() && (o.warmNearest || !o.warmFrom.empty()) && !store::isReplicate(*r))
+                        warm = warmSourceFor(l.runs(place.name), home, space, *r, warmRuns);
+                    res = runPoint<run::MixerJob>(s, o.np, o.snapshots, home, r->index, deadline, run::runMixer, warm);
+                } else {
+                    auto s = collapseSceneFor(c.sceneJson, r->params);
+                    if (retry) s = retryScene(s);
+                    res = runPoint<run::CollapseJob>(s, o.np, o.snapshots, home, r->index, deadline, run::runCollapse);
+                }
                 done = true;
             } catch (const DeadlineReached&) {
                 l.release(r->id);  // resumes in the next slice
                 stopped = true;
+                if (!dir.empty()) {
+                    // What it ran outlives its directory (progress.hpp).
+                    std::lock_guard<std::mutex> g(m);
+                    try {
+                        keepPointProgress(home, r->index, dir);
+                    } catch (const std::exception& e) {
+                        std::cerr << "mixload: warning: point " << r->index << "'s progress was not kept: " << e.what() << '\n';
+                    }
+                }
                 return;
             } catch (const std::exception& e) {
                 l.markFailed(r->id, e.what(), /*failed=*/r->attempts >= 2);
@@ -688,6 +709,13 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
                 }
             }
             std::lock_guard<std::mutex> g(m);
+            if (done && !dir.empty()) {
+                try {
+                    dropFinishedProgress(home, r->index);
+                } catch (const std::exception& e) {
+                    std::cerr << "mixload: warning: point " << r->index << "'s kept progress was not dropped: " << e.what() << '\n';
+                }
+            }
             if (o.snapshots && done) {
                 // The final fields outlive the run directory (one file beside the ledger).
                 try {

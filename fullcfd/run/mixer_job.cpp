@@ -142,10 +142,18 @@ nlohmann::json warmStartFromField(const scene::MixerScene& s, const fs::path& ca
             replaceInternal(caseDir / "0" / "U", "internalField uniform (0 0 0);", u.str());
         }
     }
-    return {{"warm_from", fs::absolute(source).string()},
+    nlohmann::json start{{"warm_from", fs::absolute(source).string()},
             {"source_time_s", f.times().back()},
             {"velocity", withU},
             {"field_loading_kg", s.bulkDensity() * alpha.cwiseMax(0.0).cwiseMin(1.0).dot(f.cellVolumes())}};
+    // A campaign point's own progress, kept when its run directory was lost (experiments/campaign/
+    // progress): the run continues that one, and counts the time it had spent (RunSlices reads them).
+    const auto prov = f.provenance();
+    if (prov.contains("continues_run_dir")) {
+        start["continues_run_dir"] = prov["continues_run_dir"];
+        writeFileAtomic(caseDir / "slices.json", prov.value("slices", std::string("[]")));
+    }
+    return start;
 }
 }  // namespace
 

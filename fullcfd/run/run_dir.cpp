@@ -103,15 +103,21 @@ std::optional<double> lastLogWrite(const fs::path& dir) {
 }
 }  // namespace
 
-RunSlices::RunSlices(const fs::path& dir, int np) : file_(dir / "slices.json") {
-    slices_ = fs::exists(file_) ? nlohmann::json::parse(readFile(file_)) : nlohmann::json::array();
-    for (auto& s : slices_)
+nlohmann::json closedSlices(const fs::path& dir, std::optional<double> end, const std::string& why) {
+    const fs::path file = dir / "slices.json";
+    auto slices = fs::exists(file) ? nlohmann::json::parse(readFile(file)) : nlohmann::json::array();
+    for (auto& s : slices)
         if (s.value("open", false)) {
             const double start = s.at("start_file_clock_s").get<double>();
-            const double wall = std::max(0.0, lastLogWrite(dir).value_or(start) - start);
+            const double wall = std::max(0.0, end.value_or(start) - start);
             s = {{"start_file_clock_s", s["start_file_clock_s"]}, {"wall_seconds", wall}, {"core_seconds", wall * s.value("np", 1)},
-                 {"closed_by", "the next process (this one was killed): ended at its last log write"}};
+                 {"closed_by", why}};
         }
+    return slices;
+}
+
+RunSlices::RunSlices(const fs::path& dir, int np) : file_(dir / "slices.json") {
+    slices_ = closedSlices(dir, lastLogWrite(dir), "the next process (this one was killed): ended at its last log write");
     slices_.push_back({{"start_file_clock_s", fileClockNow()}, {"np", np}, {"open", true}});
     writeFileAtomic(file_, slices_.dump(1));
 }

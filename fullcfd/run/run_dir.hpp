@@ -56,6 +56,10 @@ private:
     nlohmann::json slices_;
 };
 
+// <dir>/slices.json with any slice left open (a process stopped or killed) closed at `end` (file
+// clock seconds; none: no time) and marked `why`; empty without the file.
+nlohmann::json closedSlices(const std::filesystem::path& dir, std::optional<double> end, const std::string& why);
+
 struct SolverRun;
 
 // Runs the solver as this process's slice of the run (RunSlices), closed whether the solver

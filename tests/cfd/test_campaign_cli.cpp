@@ -440,6 +440,35 @@ TEST(CampaignCli, AMixerRunStoppedAndResumedCountsBothSlices) {
     EXPECT_NE(readFile(dir / "s.csv").find(",done,"), std::string::npos);
 }
 
+TEST(CampaignCli, APointWhoseRunDirectoryIsLostResumesFromItsKeptProgress) {
+    // A mixer point stopped at --max-hours keeps its latest fields and counted time beside the
+    // ledger (progress.h5); with its run directory gone (a machine that came back empty) the next
+    // driver starts it from them, counts the lost slice, and drops the kept progress once it is done.
+    const fs::path dir = fs::canonical(scratchDir("campaign-progress"));
+    const auto ranges = rangesFile(dir, "r", "scene = \"mixer\"\n[rpm]\nmin = 100\nmax = 120\nunit = \"rpm\"\n");
+    auto r = runMixload({"campaign", "create", "p", "--ranges", ranges.string(), "--n", "1", "--scene", "gcm250",
+                         "--cell-size", "0.02", "--end-time", "6", "--dir", dir.string()});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    r = runMixload({"campaign", "run", "p", "--max-hours", "0.0015", "--dir", dir.string(), "--json"});  // 5.4 s
+    ASSERT_EQ(r.rc, 0) << r.err;
+    ASSERT_TRUE(nlohmann::json::parse(r.out)["stopped_at_max_hours"].get<bool>()) << r.out;
+    ASSERT_TRUE(fs::exists(dir / "p" / "progress.h5")) << r.err;
+    std::string lost;
+    for (const auto& e : fs::directory_iterator(dir / "p" / "runs"))
+        if (e.is_directory()) lost = e.path().filename().string();
+    fs::remove_all(dir / "p" / "runs");
+    r = runMixload({"campaign", "run", "p", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    ASSERT_EQ(nlohmann::json::parse(r.out)["counts"]["done"], 1) << r.out;
+    const auto res = nlohmann::json::parse(readFile(dir / "p" / "runs" / lost / "result.json"));
+    EXPECT_EQ(res["start"].value("continues_run_dir", ""), lost) << res["start"].dump();
+    EXPECT_GT(res["start"].value("source_time_s", 0.0), 0.0) << res["start"].dump();
+    EXPECT_TRUE(res["start"].value("velocity", false)) << res["start"].dump();
+    EXPECT_EQ(res["slices"], 2);
+    EXPECT_GT(res["wall_seconds"].get<double>(), res["slice_wall_seconds"].get<double>() + 4.0);
+    EXPECT_FALSE(fs::exists(dir / "p" / "progress.h5"));
+}
+
 TEST(CampaignCli, ASliceLeftOpenByAKilledProcessEndsAtItsLastLogWrite) {
     // The slice of a process killed mid-run has a start and no end: the next process closes it at
     // the case's last log write, its core seconds that time on its ranks.

@@ -1,0 +1,151 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "campaign/progress.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "common/atomic_file.hpp"
+#include "common/clock.hpp"
+#include "post/snapshots.hpp"
+#include "run/foam_runner.hpp"
+#include "run/run_dir.hpp"
+#include "store/snapshot_file.hpp"
+
+namespace mixload::experiments {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path progressFile(const fs::path& home) { return home / "progress.h5"; }
+
+struct Kept {
+    std::optional<store::SnapshotFile> file;
+    nlohmann::json records = nlohmann::json::array();  // column i's point
+};
+
+Kept readProgress(const fs::path& home) {
+    Kept k;
+    if (!fs::exists(progressFile(home))) return k;
+    k.file.emplace(progressFile(home));
+    k.records = nlohmann::json::parse(k.file->provenance().at("progress_runs").get<std::string>());
+    return k;
+}
+
+double fileClockOf(const fs::path& p) {
+    return std::chrono::duration<double>(fs::last_write_time(p).time_since_epoch()).count();
+}
+
+// Rewrites the progress file with `records` and their columns (the mesh from `source`), or removes
+// it when none is left.
+void writeProgress(const fs::path& home, const store::CaseFile* source, const nlohmann::json& records,
+                   const std::vector<Eigen::VectorXd>& alphas, const std::vector<Eigen::VectorXd>& velocities) {
+    const fs::path file = progressFile(home);
+    if (records.empty()) {
+        fs::remove(file);
+        fs::remove(fs::path(file).replace_extension(".xmf"));
+        return;
+    }
+    const auto n = static_cast<Eigen::Index>(alphas.size());
+    Eigen::MatrixXd alpha(alphas.front().size(), n), U(velocities.front().size(), n);
+    std::vector<double> indices;
+    for (Eigen::Index i = 0; i < n; ++i) {
+        alpha.col(i) = alphas[static_cast<size_t>(i)];
+        U.col(i) = velocities[static_cast<size_t>(i)];
+        indices.push_back(records[static_cast<size_t>(i)].at("index").get<double>());
+    }
+    store::writeDerivedSnapshots(*source, indices, {{"alpha", alpha}, {"U", U}},
+                                 {{"kind", "campaign progress"}, {"progress_runs", records.dump()}}, file);
+}
+
+}  // namespace
+
+nlohmann::json keepPointProgress(const fs::path& home, int index, const fs::path& runDir) {
+    const fs::path timeDir = run::latestTimeDir(runDir);
+    if (timeDir.empty()) return nullptr;
+    // The latest time alone (and the first, which the export always takes), in float64: a start
+    // should hold what the run held.
+    post::SnapshotExport e;
+    e.runDir = runDir;
+    e.output = home / ("progress-" + std::to_string(index) + ".export.h5");
+    e.every = 1000000;
+    e.fields = {"alpha", "U"};
+    e.float64 = true;
+    post::exportSnapshots(e);
+    const store::SnapshotFile latest(e.output);
+    const size_t last = latest.times().size() - 1;
+    // An open slice (this driver's process, stopped at its deadline) ends when the kept time was written.
+    const auto slices = run::closedSlices(runDir, fileClockOf(timeDir), "kept progress: ended at its last written time");
+    double wall = 0, core = 0;
+    for (const auto& s : slices) wall += s.value("wall_seconds", 0.0), core += s.value("core_seconds", 0.0);
+    const nlohmann::json record{{"index", index},
+                                {"run_dir", runDir.filename().string()},
+                                {"time_s", latest.times().back()},
+                                {"wall_seconds", wall},
+                                {"core_seconds", core},
+                                {"slices", slices},
+                                {"kept_utc", utcNow()}};
+    Kept kept = readProgress(home);
+    nlohmann::json records = nlohmann::json::array();
+    std::vector<Eigen::VectorXd> alphas, velocities;
+    if (kept.file && kept.file->meshFingerprint() == latest.meshFingerprint())
+        for (size_t i = 0; i < kept.records.size(); ++i) {
+            if (kept.records[i].at("index").get<int>() == index) continue;
+            records.push_back(kept.records[i]);
+            alphas.push_back(kept.file->column("alpha", i));
+            velocities.push_back(kept.file->column("U", i));
+        }
+    records.push_back(record);
+    alphas.push_back(latest.column("alpha", last));
+    velocities.push_back(latest.column("U", last));
+    writeProgress(home, &latest, records, alphas, velocities);
+    kept.file.reset();
+    fs::remove(e.output);
+    fs::remove(fs::path(e.output).replace_extension(".xmf"));
+    return {{"index", index}, {"time_s", record["time_s"]}, {"core_seconds", core}};
+}
+
+void dropFinishedProgress(const fs::path& home, int index) {
+    Kept kept = readProgress(home);
+    if (!kept.file) return;
+    nlohmann::json records = nlohmann::json::array();
+    std::vector<Eigen::VectorXd> alphas, velocities;
+    bool held = false;
+    for (size_t i = 0; i < kept.records.size(); ++i) {
+        if (kept.records[i].at("index").get<int>() == index) {
+            held = true;
+            continue;
+        }
+        records.push_back(kept.records[i]);
+        alphas.push_back(kept.file->column("alpha", i));
+        velocities.push_back(kept.file->column("U", i));
+    }
+    if (!held) return;
+    // The file is read whole above; its rewrite replaces it by rename.
+    writeProgress(home, &*kept.file, records, alphas, velocities);
+}
+
+fs::path progressStart(const fs::path& home, int index, const fs::path& runDir) {
+    if (fs::exists(runDir)) return {};  // the point resumes in its own directory
+    const Kept kept = readProgress(home);
+    for (size_t i = 0; i < kept.records.size(); ++i) {
+        const auto& r = kept.records[i];
+        if (r.at("index").get<int>() != index || r.value("run_dir", "") != runDir.filename().string()) continue;
+        const fs::path file = home / "warm" / ("progress-" + std::to_string(index) + ".h5");
+        fs::create_directories(file.parent_path());
+        store::writeDerivedSnapshots(*kept.file, {r.at("time_s").get<double>()},
+                                     {{"alpha", kept.file->column("alpha", i)}, {"U", kept.file->column("U", i)}},
+                                     {{"kind", "campaign progress"},
+                                      {"continues_run_dir", r.value("run_dir", "")},
+                                      {"slices", r.at("slices").dump()}},
+                                     file);
+        return file;
+    }
+    return {};
+}
+
+}  // namespace mixload::experiments
