@@ -208,6 +208,16 @@ nlohmann::json createCampaign(const CampaignSpec& o) {
              }()}};
 }
 
+namespace {
+
+// Held while a design is read and points are added to it: two `extend` or `replicate` commands at
+// once would each read the same design and add the same points.
+std::unique_ptr<FileLock> designLock(const CampaignPlace& o) {
+    return std::make_unique<FileLock>(o.home() / "design.lock", FileLock::Mode::wait);
+}
+
+}  // namespace
+
 store::CampaignInfo openCampaign(const CampaignPlace& o, std::unique_ptr<store::Ledger>& l) {
     checkName(o.name);
     if (!fs::exists(o.ledger()))
@@ -386,6 +396,7 @@ nlohmann::json extendCampaign(const CampaignPlace& o, int n, bool adaptive) {
     requireRange("n", n, 1, 100000);
     std::unique_ptr<store::Ledger> l;
     const auto c = openCampaign(o, l);
+    const auto lock = designLock(o);
     const auto space = rangesOf(c, o.name);
     const auto runs = l->runs(o.name);
     Design old;
@@ -445,6 +456,7 @@ nlohmann::json replicateCampaign(const CampaignPlace& o, int n, double depositFa
     std::unique_ptr<store::Ledger> l;
     const auto c = openCampaign(o, l);
     if (c.scene != "mixer") throw InputError("campaign", o.name, "a mixer campaign (a replicate starts from another deposit)");
+    const auto lock = designLock(o);
     const auto space = rangesOf(c, o.name);
     const auto runs = l->runs(o.name);
     // Candidates: finished, steady design points that are not replicates themselves.
