@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <fstream>
+#include <iostream>
 #include <optional>
 #include <set>
 #include <cstdlib>
@@ -124,8 +125,40 @@ std::optional<fs::path> setAsidePartialTime(const fs::path& caseDir) {
     return aside;
 }
 
+namespace {
+std::vector<fs::path> processorDirs(const fs::path& caseDir) {
+    std::vector<fs::path> out;
+    for (const auto& e : fs::directory_iterator(caseDir))
+        if (e.is_directory() && e.path().filename().string().rfind("processor", 0) == 0) out.push_back(e.path());
+    return out;
+}
+}  // namespace
+
+void gatherParallelTimes(const fs::path& caseDir, int np) {
+    const auto procs = processorDirs(caseDir);
+    if (procs.empty()) return;
+    // A rank killed while writing, or ranks killed between writes: the restart time is the latest
+    // one every rank wrote whole, and later ones go aside on every rank.
+    double common = 1e300;
+    for (const auto& p : procs) {
+        setAsidePartialTime(p);
+        common = std::min(common, latestTime(p));
+    }
+    for (const auto& p : procs)
+        for (const auto& e : fs::directory_iterator(p)) {
+            const auto t = e.is_directory() ? parseNumber(e.path().filename().string()) : std::nullopt;
+            if (t && *t > common) fs::rename(e.path(), e.path().string() + ".partial");
+        }
+    if (common > latestTime(caseDir)) runUtility(caseDir, {"reconstructPar", "-newTimes"});
+    // Decomposed for another number of ranks: decomposed again from the latest time.
+    if (static_cast<int>(procs.size()) != np)
+        for (const auto& p : procs) fs::remove_all(p);
+}
+
 double runSolver(const SolverRun& r) {
     const auto start = std::chrono::steady_clock::now();
+    // A parallel slice stopped or killed may have left its newest times in processor*/ only.
+    gatherParallelTimes(r.caseDir, r.np);
     // A solver killed while writing leaves a time it cannot restart from: resume before it.
     if (r.np <= 1) setAsidePartialTime(r.caseDir);
     Progress bar(r.label, r.progress);
@@ -143,13 +176,22 @@ double runSolver(const SolverRun& r) {
     if (r.np <= 1) {
         check(run(r.caseDir, {r.solver}, logName, onLine, r.deadline), r.caseDir, name, logName);
     } else {
-        if (!fs::exists(r.caseDir / "processor0")) {
-            runUtility(r.caseDir, {"decomposePar", "-force"});
+        // The latest time only: a resumed or warm-continued case starts from it.
+        if (!fs::exists(r.caseDir / "processor0")) runUtility(r.caseDir, {"decomposePar", "-force", "-latestTime"});
+        try {
+            check(run(r.caseDir, {"mpirun", "-np", std::to_string(r.np), r.solver, "-parallel"}, logName, onLine,
+                      r.deadline),
+                  r.caseDir, "mpirun " + name, logName);
+        } catch (const DeadlineReached&) {
+            // The case itself holds what the slice ran (kept progress, a serial resume read it there).
+            try {
+                gatherParallelTimes(r.caseDir, r.np);
+            } catch (const std::exception& e) {
+                std::cerr << "mixload: warning: the stopped slice's times stay in " << r.caseDir.string()
+                          << "/processor*, the next slice gathers them: " << e.what() << '\n';
+            }
+            throw;
         }
-        check(run(r.caseDir,
-                  {"mpirun", "-np", std::to_string(r.np), r.solver, "-parallel"}, logName, onLine,
-                  r.deadline),
-              r.caseDir, "mpirun " + name, logName);
         runUtility(r.caseDir, {"reconstructPar", "-newTimes"});
     }
     bar.finish();

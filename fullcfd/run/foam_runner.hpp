@@ -47,6 +47,12 @@ double runSolver(const SolverRun& r);
 // name, or nothing when the latest time is complete. runSolver does it before a serial run.
 std::optional<std::filesystem::path> setAsidePartialTime(const std::filesystem::path& caseDir);
 
+// A parallel case's times in processor*/ (a slice stopped at its deadline, or killed, did not
+// reconstruct them): times past the latest one every rank wrote whole are set aside on every rank,
+// newer ones are reconstructed into the case, and the decomposition is removed when the run resumes
+// on another number of ranks (np) than it has.
+void gatherParallelTimes(const std::filesystem::path& caseDir, int np);
+
 // Latest time directory (numeric name, as written: a restart needs its digits) of a case, or an
 // empty path if none past 0; latestTime is its time, or 0.
 std::filesystem::path latestTimeDir(const std::filesystem::path& caseDir);
