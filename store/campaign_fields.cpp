@@ -178,7 +178,6 @@ bool writeKeptRunFields(const fs::path& ledger, int index, const fs::path& file)
     const Kept kept = readKept(ledger);
     const auto it = kept.byIndex.find(index);
     if (it == kept.byIndex.end()) return false;
-    if (fs::exists(file)) return true;
     const auto& [column, record] = it->second;
     std::vector<std::pair<std::string, Eigen::MatrixXd>> fields{{"alpha", kept.file->column("alpha", column)}};
     if (record.value("velocity", false) && hasVelocity(*kept.file)) {

@@ -31,7 +31,7 @@ std::set<int> keptRunIndices(const std::filesystem::path& ledger);
 
 // One kept run's final fields as a field file of its own (the powder fraction, and the velocity
 // when kept, at the run's final time): a warm start for a point whose source run directory is gone.
-// Written once, atomically, and reused. False when the kept file does not hold the run.
+// Written whole and atomically. False when the kept file does not hold the run.
 bool writeKeptRunFields(const std::filesystem::path& ledger, int index, const std::filesystem::path& file);
 
 struct FinalField {

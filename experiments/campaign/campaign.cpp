@@ -309,12 +309,12 @@ fs::path warmSourceFor(const std::vector<store::LedgerRun>& runs, const fs::path
         if (!w) return {};
         std::error_code ec;
         if (!w->run.runDir.empty() && fs::exists(fs::path(w->run.runDir) / "result.json", ec)) return w->run.runDir;
-        // Named by the source campaign's ledger and the run's index: one file per kept run.
+        // Named by the source campaign and the run's index, and written afresh each time (two pool
+        // campaigns of one name in different places would otherwise share a stale file).
         const fs::path file = home / "warm" /
-                              (w->ledger.parent_path().filename().string() + "-" + std::to_string(w->run.index) + ".h5");
+                              ("kept-" + w->ledger.parent_path().filename().string() + "-" + std::to_string(w->run.index) + ".h5");
         fs::create_directories(file.parent_path());
-        store::writeKeptRunFields(w->ledger, w->run.index, file);
-        return file;
+        return store::writeKeptRunFields(w->ledger, w->run.index, file) ? file : fs::path();
     };
     if (units.size() < 5) return path(nearest);
     double predicted = 0;
@@ -608,9 +608,11 @@ nlohmann::json exportCampaignCsv(const CampaignPlace& o, const std::filesystem::
     for (const auto& q : qois) os << ',' << q;
     const bool mixer = c.scene == "mixer";
     // Where a finished mixer run started: the deposit, or the run whose fields it began from.
-    const auto startOf = [](const nlohmann::json& result) -> std::string {
+    // A run that continues a lost one's kept progress: "continued:" and where that one began.
+    const std::function<std::string(const nlohmann::json&)> startOf = [&](const nlohmann::json& result) -> std::string {
         if (!result.is_object() || !result.contains("start")) return "";
         const auto& st = result["start"];
+        if (st.contains("first_start")) return "continued:" + startOf({{"start", st["first_start"]}});
         if (st.contains("warm_from")) return "warm:" + fs::path(st["warm_from"].get<std::string>()).filename().string();
         return st.contains("deposit_kg") ? "deposit:" + formatNumber(st["deposit_kg"].get<double>()) : "";
     };
@@ -657,6 +659,26 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
     std::mutex m;
     Progress bar("campaign " + place.name, o.progress);
     bar.update(double(finished) / total, std::to_string(finished.load()) + "/" + std::to_string(total));
+    // Where a mixer point starts: its own kept progress when its directory was lost; else, under
+    // --warm-nearest, a finished run (a replicate's deposit is the point of its run: it never starts
+    // warm); else the deposit. Field-file starts copy cells at the rotor's angle 0, so a sliding-mesh
+    // point takes none (its source had turned). Choosing a start never fails a point: it warns and
+    // falls back to the deposit.
+    const auto startOf = [&](store::Ledger& l, const store::LedgerRun& r, const scene::MixerScene& s,
+                             const fs::path& dir) -> fs::path {
+        const bool fieldStarts = s.method != "sm";
+        try {
+            if (fieldStarts)
+                if (auto p = progressStart(home, r.index, dir); !p.empty()) return p;
+            if (!(o.warmNearest || !o.warmFrom.empty()) || store::isReplicate(r)) return {};
+            auto w = warmSourceFor(l.runs(place.name), home, space, r, warmRuns);
+            return fieldStarts || w.extension() != ".h5" ? w : fs::path();
+        } catch (const std::exception& e) {
+            std::cerr << "mixload: warning: no start found for point " << r.index << " (" << e.what()
+                      << "); it starts from its deposit\n";
+            return {};
+        }
+    };
     const auto worker = [&] {
         store::Ledger l(home / "ledger.sqlite");
         for (;;) {
@@ -675,12 +697,27 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
                     auto s = mixerSceneFor(c.sceneJson, r->params);
                     if (retry) s = retryScene(s);
                     dir = pointDir(home, r->index, s);
-                    // Its own progress first, when its directory was lost; else a replicate's deposit
-                    // is the point of its run: it never starts warm.
-                    fs::path warm = progressStart(home, r->index, dir);
-                    if (warm.empty() && (o.warmNearest || !o.warmFrom.empty()) && !store::isReplicate(*r))
-                        warm = warmSourceFor(l.runs(place.name), home, space, *r, warmRuns);
-                    res = runPoint<run::MixerJob>(s, o.np, o.snapshots, home, r->index, deadline, run::runMixer, warm);
+                    const fs::path warm = startOf(l, *r, s, dir);
+                    const auto runFrom = [&](const fs::path& w) {
+                        return runPoint<run::MixerJob>(s, o.np, o.snapshots, home, r->index, deadline, run::runMixer, w);
+                    };
+                    if (warm.extension() != ".h5") {
+                        res = runFrom(warm);
+                    } else {
+                        // A field file laid on a case that does not take it (another mesh, an
+                        // unreadable file) fails before the case exists: the point starts from its
+                        // deposit instead of failing. A failure once the case exists is the run's own.
+                        try {
+                            res = runFrom(warm);
+                        } catch (const DeadlineReached&) {
+                            throw;
+                        } catch (const std::exception& e) {
+                            if (fs::exists(dir)) throw;
+                            std::cerr << "mixload: warning: point " << r->index << " could not start from " << warm.string()
+                                      << " (" << e.what() << "); it starts from its deposit\n";
+                            res = runFrom({});
+                        }
+                    }
                 } else {
                     auto s = collapseSceneFor(c.sceneJson, r->params);
                     if (retry) s = retryScene(s);
@@ -703,6 +740,15 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
             } catch (const std::exception& e) {
                 l.markFailed(r->id, e.what(), /*failed=*/r->attempts >= 2);
                 if (r->attempts < 2) continue;
+                if (!dir.empty()) {
+                    // Failed for good: its kept progress would only be carried along.
+                    std::lock_guard<std::mutex> g(m);
+                    try {
+                        dropFinishedProgress(home, r->index);
+                    } catch (const std::exception& ex) {
+                        std::cerr << "mixload: warning: point " << r->index << "'s kept progress was not dropped: " << ex.what() << '\n';
+                    }
+                }
             }
             if (done) {
                 // The result is in its run directory now: a ledger that cannot take it (busy, disk

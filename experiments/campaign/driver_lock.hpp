@@ -3,6 +3,7 @@
 // first one's running rows as if their driver had died, and run them twice.
 #pragma once
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include "common/file_lock.hpp"
@@ -15,7 +16,7 @@ public:
     DriverLock(const std::filesystem::path& home, const std::string& command);
 
 private:
-    FileLock lock_;
+    std::unique_ptr<FileLock> lock_;
 };
 
 }  // namespace mixload::experiments

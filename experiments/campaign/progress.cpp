@@ -2,6 +2,8 @@
 #include "campaign/progress.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <stdexcept>
 #include <chrono>
 #include <optional>
 #include <vector>
@@ -62,9 +64,32 @@ void writeProgress(const fs::path& home, const store::CaseFile* source, const nl
                                  {{"kind", "campaign progress"}, {"progress_runs", records.dump()}}, file);
 }
 
+// How the run in runDir began: its own first start when it continues a lost run, else its start
+// (a warm source) or the deposit its scene asks for.
+nlohmann::json firstStart(const fs::path& runDir) {
+    if (fs::exists(runDir / "start.json")) {
+        const auto start = nlohmann::json::parse(readFile(runDir / "start.json"));
+        return start.contains("first_start") ? start["first_start"] : start;
+    }
+    const auto scene = nlohmann::json::parse(readFile(runDir / "scene.json"));
+    return {{"deposit_kg", scene.at("scene").value("initial_loading_kg", 0.0)}};
+}
+
+// Removes a file (and its XDMF) when the scope ends, however it ends.
+struct RemoveOnExit {
+    fs::path file;
+    ~RemoveOnExit() {
+        std::error_code ec;
+        fs::remove(file, ec);
+        fs::remove(fs::path(file).replace_extension(".xmf"), ec);
+    }
+};
+
 }  // namespace
 
 nlohmann::json keepPointProgress(const fs::path& home, int index, const fs::path& runDir) {
+    // A solver stopped at its deadline may have been writing: keep the latest whole time.
+    run::setAsidePartialTime(runDir);
     const fs::path timeDir = run::latestTimeDir(runDir);
     if (timeDir.empty()) return nullptr;
     // The latest time alone (and the first, which the export always takes), in float64: a start
@@ -75,10 +100,13 @@ nlohmann::json keepPointProgress(const fs::path& home, int index, const fs::path
     e.every = 1000000;
     e.fields = {"alpha", "U"};
     e.float64 = true;
+    const RemoveOnExit cleanup{e.output};
     post::exportSnapshots(e);
     const store::SnapshotFile latest(e.output);
     const size_t last = latest.times().size() - 1;
-    // An open slice (this driver's process, stopped at its deadline) ends when the kept time was written.
+    if (std::abs(latest.times().back() - run::latestTime(runDir)) > 1e-9 * std::max(1.0, latest.times().back()))
+        throw std::runtime_error("the latest time of " + runDir.string() + " lacks alpha or U");
+    // Every slice whole, the time spent after the kept time included: it was spent on the point.
     const auto slices = run::closedSlices(runDir, fileClockOf(timeDir), "kept progress: ended at its last written time");
     double wall = 0, core = 0;
     for (const auto& s : slices) wall += s.value("wall_seconds", 0.0), core += s.value("core_seconds", 0.0);
@@ -88,6 +116,7 @@ nlohmann::json keepPointProgress(const fs::path& home, int index, const fs::path
                                 {"wall_seconds", wall},
                                 {"core_seconds", core},
                                 {"slices", slices},
+                                {"first_start", firstStart(runDir)},
                                 {"kept_utc", utcNow()}};
     Kept kept = readProgress(home);
     nlohmann::json records = nlohmann::json::array();
@@ -103,9 +132,6 @@ nlohmann::json keepPointProgress(const fs::path& home, int index, const fs::path
     alphas.push_back(latest.column("alpha", last));
     velocities.push_back(latest.column("U", last));
     writeProgress(home, &latest, records, alphas, velocities);
-    kept.file.reset();
-    fs::remove(e.output);
-    fs::remove(fs::path(e.output).replace_extension(".xmf"));
     return {{"index", index}, {"time_s", record["time_s"]}, {"core_seconds", core}};
 }
 
@@ -141,6 +167,7 @@ fs::path progressStart(const fs::path& home, int index, const fs::path& runDir) 
                                      {{"alpha", kept.file->column("alpha", i)}, {"U", kept.file->column("U", i)}},
                                      {{"kind", "campaign progress"},
                                       {"continues_run_dir", r.value("run_dir", "")},
+                                      {"first_start", r.value("first_start", nlohmann::json()).dump()},
                                       {"slices", r.at("slices").dump()}},
                                      file);
         return file;

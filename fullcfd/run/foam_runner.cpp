@@ -93,6 +93,16 @@ bool complete(const fs::path& file) {
     return tail.find("// ****") != std::string::npos;
 }
 
+// Renames a time directory to <time>.partial (then .partial1, ...: a time written again after one
+// was set aside can be set aside again), which OpenFOAM ignores.
+fs::path setAside(const fs::path& time) {
+    fs::path aside = time;
+    aside += ".partial";
+    for (int k = 1; fs::exists(aside); ++k) aside = time.string() + ".partial" + std::to_string(k);
+    fs::rename(time, aside);
+    return aside;
+}
+
 std::set<std::string> fileNames(const fs::path& dir) {
     std::set<std::string> names;
     for (const auto& e : fs::directory_iterator(dir))
@@ -118,11 +128,7 @@ std::optional<fs::path> setAsidePartialTime(const fs::path& caseDir) {
         for (const auto& name : had) partial = partial || !has.count(name);
     }
     if (!partial) return std::nullopt;
-    fs::path aside = latest;
-    aside += ".partial";
-    for (int k = 1; fs::exists(aside); ++k) aside = latest.string() + ".partial" + std::to_string(k);
-    fs::rename(latest, aside);
-    return aside;
+    return setAside(latest);
 }
 
 namespace {
@@ -137,6 +143,9 @@ std::vector<fs::path> processorDirs(const fs::path& caseDir) {
 void gatherParallelTimes(const fs::path& caseDir, int np) {
     const auto procs = processorDirs(caseDir);
     if (procs.empty()) return;
+    // The case's own latest time may be half reconstructed (a driver killed in reconstructPar):
+    // aside, it is reconstructed again from the ranks below.
+    setAsidePartialTime(caseDir);
     // A rank killed while writing, or ranks killed between writes: the restart time is the latest
     // one every rank wrote whole, and later ones go aside on every rank.
     double common = 1e300;
@@ -144,11 +153,13 @@ void gatherParallelTimes(const fs::path& caseDir, int np) {
         setAsidePartialTime(p);
         common = std::min(common, latestTime(p));
     }
+    std::vector<fs::path> later;  // collected first: renaming while iterating may skip entries
     for (const auto& p : procs)
         for (const auto& e : fs::directory_iterator(p)) {
             const auto t = e.is_directory() ? parseNumber(e.path().filename().string()) : std::nullopt;
-            if (t && *t > common) fs::rename(e.path(), e.path().string() + ".partial");
+            if (t && *t > common) later.push_back(e.path());
         }
+    for (const auto& t : later) setAside(t);
     if (common > latestTime(caseDir)) runUtility(caseDir, {"reconstructPar", "-newTimes"});
     // Decomposed for another number of ranks: decomposed again from the latest time.
     if (static_cast<int>(procs.size()) != np)

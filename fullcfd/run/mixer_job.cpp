@@ -151,6 +151,7 @@ nlohmann::json warmStartFromField(const scene::MixerScene& s, const fs::path& ca
     const auto prov = f.provenance();
     if (prov.contains("continues_run_dir")) {
         start["continues_run_dir"] = prov["continues_run_dir"];
+        if (prov.contains("first_start")) start["first_start"] = nlohmann::json::parse(prov["first_start"].get<std::string>());
         writeFileAtomic(caseDir / "slices.json", prov.value("slices", std::string("[]")));
     }
     return start;
