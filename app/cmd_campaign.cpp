@@ -7,6 +7,7 @@
 #include "app/commands.hpp"
 #include "campaign/campaign.hpp"
 #include "common/input_error.hpp"
+#include "common/process.hpp"
 #include "store/campaign_fields.hpp"
 
 namespace mixload::app {
@@ -88,6 +89,8 @@ int printRun(const CampaignCmd& o) {
                 std::cerr << "mixload: check of " << o.checkModel << " failed: " << e.what() << '\n';
             }
         };
+    // SIGTERM or Ctrl-C stops the driver as --max-hours does: its points released, their progress kept.
+    stopOnSignals();
     const auto j = experiments::runCampaign(o.spec.place, opt);
     const auto& counts = j["counts"];
     if (o.json) std::cout << j.dump(2) << '\n';
@@ -95,6 +98,7 @@ int printRun(const CampaignCmd& o) {
         std::cout << "campaign " << o.spec.place.name << ": " << counts["done"] << " done, " << counts["failed"]
                   << " failed, " << counts["queued"] << " queued"
                   << (j["stopped_at_max_hours"].get<bool>() ? " (stopped at --max-hours; run again to continue)" : "")
+                  << (j["stopped_on_request"].get<bool>() ? " (stopped on request; run again to continue)" : "")
                   << '\n';
     // Exit 1 says why on stderr too, with --json as without (an unrecorded result has said so already).
     if (counts["failed"].get<int>() > 0)
@@ -136,7 +140,7 @@ void addCampaign(CLI::App& app, Action& action) {
     cr->add_flag("--json", o->json, "Print JSON");
     cr->callback([&action, o] { action = [o] { return printCreated(*o); }; });
 
-    auto* rn = camp->add_subcommand("run", "Run (or continue) a campaign: J runs at a time, resumable after any interruption");
+    auto* rn = camp->add_subcommand("run", "Run (or continue) a campaign: J runs at a time, resumable after any interruption; SIGTERM or Ctrl-C stops it as --max-hours does");
     rn->add_option("name", o->spec.place.name, "Campaign name")->required();
     rn->add_option("--jobs", o->run.jobs, "Concurrent runs")->capture_default_str();
     rn->add_option("--np", o->run.np, "MPI ranks per run")->capture_default_str();

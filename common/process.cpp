@@ -8,6 +8,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <deque>
@@ -15,6 +17,24 @@
 #include <stdexcept>
 
 namespace mixload {
+
+namespace {
+volatile std::sig_atomic_t gStop = 0;
+volatile std::sig_atomic_t gWatching = 0;
+extern "C" void askStop(int) { gStop = 1; }
+}  // namespace
+
+void stopOnSignals() {
+    struct sigaction sa {};
+    sa.sa_handler = askStop;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESTART;
+    ::sigaction(SIGTERM, &sa, nullptr);
+    ::sigaction(SIGINT, &sa, nullptr);
+    gWatching = 1;
+}
+
+bool stopRequested() { return gStop != 0; }
 
 int runProcess(const ProcessSpec& spec) {
     if (spec.argv.empty()) throw std::invalid_argument("runProcess: empty argv");
@@ -54,19 +74,22 @@ int runProcess(const ProcessSpec& spec) {
     char buf[8192];
     bool stopped = false;
     for (;;) {
-        if (spec.deadline && !stopped) {
-            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-                *spec.deadline - std::chrono::steady_clock::now());
-            pollfd pfd{fds[0], POLLIN, 0};
-            if (left.count() <= 0 || ::poll(&pfd, 1, static_cast<int>(std::min<long long>(left.count(), 1000))) == 0) {
-                if (std::chrono::steady_clock::now() >= *spec.deadline) {
-                    ::kill(pid, SIGTERM);
-                    stopped = true;
-                }
+        if ((spec.deadline || gWatching) && !stopped) {
+            const auto now = std::chrono::steady_clock::now();
+            if (gStop || (spec.deadline && now >= *spec.deadline)) {
+                ::kill(pid, SIGTERM);
+                stopped = true;
                 continue;
             }
+            long long wait = 1000;  // ms: a stop asked for by a signal is seen within a second
+            if (spec.deadline)
+                wait = std::min<long long>(wait, std::chrono::duration_cast<std::chrono::milliseconds>(*spec.deadline - now).count() + 1);
+            pollfd pfd{fds[0], POLLIN, 0};
+            const int ready = ::poll(&pfd, 1, static_cast<int>(std::max<long long>(wait, 0)));
+            if (ready == 0 || (ready < 0 && errno == EINTR)) continue;
         }
         const ssize_t n = ::read(fds[0], buf, sizeof buf);
+        if (n < 0 && errno == EINTR) continue;
         if (n <= 0) break;
         if (log) log.write(buf, n);
         if (!spec.onLine) continue;
@@ -80,7 +103,7 @@ int runProcess(const ProcessSpec& spec) {
     ::close(fds[0]);
     int status = 0;
     ::waitpid(pid, &status, 0);
-    if (stopped) throw DeadlineReached(spec.argv.front() + " stopped at the deadline");
+    if (stopped) throw DeadlineReached(spec.argv.front() + (gStop ? " stopped on request (a signal)" : " stopped at the deadline"));
     if (WIFEXITED(status)) return WEXITSTATUS(status);
     if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
     return 1;

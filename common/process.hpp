@@ -27,6 +27,12 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// From this call on, SIGTERM and SIGINT (Ctrl-C) ask for a stop instead of killing the process: the
+// child running under runProcess gets SIGTERM and runProcess throws DeadlineReached, as at a
+// deadline, so a campaign driver stops the way --max-hours stops it (points released, progress kept).
+void stopOnSignals();
+bool stopRequested();
+
 // Runs a child process to completion; returns its exit code (128 + signal if killed).
 int runProcess(const ProcessSpec& spec);
 

@@ -682,7 +682,7 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
     const auto worker = [&] {
         store::Ledger l(home / "ledger.sqlite");
         for (;;) {
-            if (deadline && std::chrono::steady_clock::now() >= *deadline) {
+            if ((deadline && std::chrono::steady_clock::now() >= *deadline) || stopRequested()) {
                 stopped = true;
                 return;
             }
@@ -794,7 +794,8 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
     bar.finish();
     const nlohmann::json counts = ledger->status(place.name);
     return {{"campaign", place.name}, {"counts", counts}, {"recovered", recovered},
-            {"stopped_at_max_hours", stopped.load()}, {"unrecorded_results", unrecorded.load()},
+            {"stopped_at_max_hours", stopped.load() && !stopRequested()}, {"stopped_on_request", stopRequested()},
+            {"unrecorded_results", unrecorded.load()},
             {"wall_seconds", secondsSince(start)}};
 }
 

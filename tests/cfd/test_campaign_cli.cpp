@@ -137,6 +137,29 @@ std::vector<std::string> processesIn(const fs::path& dir) {
     }
     return found;
 }
+
+// `mixload campaign run NAME --dir DIR` in a child process, its output discarded.
+pid_t startDriver(const char* name, const fs::path& dir) {
+    const pid_t pid = fork();
+    if (pid == 0) {
+        freopen("/dev/null", "w", stdout);
+        freopen("/dev/null", "w", stderr);
+        execl(MIXLOAD_EXE, MIXLOAD_EXE, "campaign", "run", name, "--dir", dir.c_str(), nullptr);
+        _exit(127);
+    }
+    return pid;
+}
+
+// Whether a flow solver (not a meshing utility) runs in dir.
+bool solverRunningIn(const fs::path& dir) {
+    for (const auto& p : processesIn(dir)) {
+        std::ifstream comm("/proc/" + p.substr(0, p.find(' ')) + "/comm");
+        std::string name;
+        std::getline(comm, name);
+        if (name.find("nterFoa") != std::string::npos) return true;
+    }
+    return false;
+}
 }  // namespace
 
 TEST(CampaignCli, DriverKilledWithSigkillFinishesEveryRunOnce) {
@@ -146,14 +169,8 @@ TEST(CampaignCli, DriverKilledWithSigkillFinishesEveryRunOnce) {
                          "10", "--dir", dir.string()});
     ASSERT_EQ(r.rc, 0) << r.err;
 
-    const pid_t driver = fork();
+    const pid_t driver = startDriver("k", dir);
     ASSERT_GE(driver, 0);
-    if (driver == 0) {
-        freopen("/dev/null", "w", stdout);
-        freopen("/dev/null", "w", stderr);
-        execl(MIXLOAD_EXE, MIXLOAD_EXE, "campaign", "run", "k", "--dir", dir.c_str(), nullptr);
-        _exit(127);
-    }
     sleep(4);  // the first run is meshing or solving
     kill(driver, SIGKILL);
     int st = 0;
@@ -195,6 +212,40 @@ TEST(CampaignCli, DriverKilledWithSigkillFinishesEveryRunOnce) {
     EXPECT_EQ(dirs, 3);
     // The killed process's time counts in its point's result, beside the one that finished it.
     EXPECT_EQ(slices, 4);
+}
+
+TEST(CampaignCli, SigtermStopsTheDriverAsItsDeadlineWould) {
+    // SIGTERM (or Ctrl-C) asks the driver to stop: its solver is stopped, its point released (not
+    // left "running" for the next driver to take as a death), and it exits 0; the next run finishes
+    // the campaign and counts the stopped slice.
+    const fs::path dir = fs::canonical(scratchDir("campaign-term"));
+    const auto ranges = rangesFile(dir, "r", "scene = \"collapse\"\n[aspect]\nmin = 1\nmax = 3\nunit = \"1\"\n");
+    auto r = runMixload({"campaign", "create", "t", "--ranges", ranges.string(), "--n", "2", "--mesh", "10",
+                         "--dir", dir.string()});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const pid_t driver = startDriver("t", dir);
+    ASSERT_GE(driver, 0);
+    // Until its first solver runs (a stop while a case is meshed leaves no case and no slice).
+    for (int i = 0; i < 300 && !solverRunningIn(dir); ++i) usleep(100000);
+    ASSERT_TRUE(solverRunningIn(dir)) << "no solver started";
+    kill(driver, SIGTERM);
+    int st = 0;
+    waitpid(driver, &st, 0);
+    ASSERT_TRUE(WIFEXITED(st)) << "killed by signal " << (WIFSIGNALED(st) ? WTERMSIG(st) : 0);
+    EXPECT_EQ(WEXITSTATUS(st), 0);
+    EXPECT_TRUE(processesIn(dir).empty());
+    r = runMixload({"campaign", "status", "t", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["counts"]["running"], 0) << r.out;
+    EXPECT_GE(nlohmann::json::parse(r.out)["counts"]["queued"], 1) << r.out;
+    r = runMixload({"campaign", "run", "t", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["counts"]["done"], 2) << r.out;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["recovered"], 0) << "the stopped point was left running";
+    int slices = 0;
+    for (const auto& e : fs::directory_iterator(dir / "t" / "runs"))
+        if (e.is_directory()) slices += nlohmann::json::parse(readFile(e.path() / "result.json")).value("slices", 0);
+    EXPECT_EQ(slices, 3);
 }
 
 TEST(CampaignCli, MaxHoursStopsTheSolverAndRequeues) {
