@@ -61,6 +61,13 @@ int printStatus(const CampaignCmd& o) {
               << j["design"].get<std::string>() << ", " << j["points"] << " points): " << n["done"] << " done, "
               << n["running"] << " running, " << n["queued"] << " queued, " << n["failed"] << " failed; "
               << j["core_seconds_done"].get<double>() << " core-seconds so far\n";
+    for (const auto& u : j["unfinished"]) {
+        std::cout << "  point " << u["index"] << " (" << u["status"].get<std::string>() << "): " << u["time_s"].get<double>()
+                  << " s of flow, M " << u["loading_kg"].get<double>() << " kg (" << u["loading_10s_before_kg"].get<double>()
+                  << " kg 10 s before), outflow " << u["outflow_kg_h"].get<double>() << " kg/h";
+        if (u["feed_kg_h"].is_number()) std::cout << " against " << u["feed_kg_h"].get<double>() << " kg/h fed";
+        std::cout << '\n';
+    }
     if (n["running"].get<int>() > 0 && j["driver_running"] == false)
         std::cout << "no driver is running: the " << n["running"]
                   << " running rows were left by one that stopped, and the next campaign run resumes them\n";

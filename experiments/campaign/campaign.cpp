@@ -26,6 +26,7 @@
 #include "doe/designs.hpp"
 #include "doe/parameter_space.hpp"
 #include "mixload_version.hpp"
+#include "post/mixer_results.hpp"
 #include "run/collapse_job.hpp"
 #include "run/foam_runner.hpp"
 #include "run/mixer_job.hpp"
@@ -570,6 +571,36 @@ nlohmann::json campaignStatus(const CampaignPlace& o) {
     } catch (const std::exception&) {
         out["driver_running"] = nullptr;  // the lock cannot be opened (a read-only copy): unknown
     }
+    // Where each unfinished mixer point stands in its run directory: a low-feed bed runs for hours,
+    // and its loading and outflow against the feed say how far it is from steady.
+    nlohmann::json unfinished = nlohmann::json::array();
+    if (c.scene == "mixer" && fs::is_directory(o.home() / "runs"))
+        for (const auto& r : runs) {
+            if (r.status == "done" || r.status == "failed") continue;
+            for (const auto& e : fs::directory_iterator(o.home() / "runs")) {
+                const std::string name = e.path().filename().string();
+                if (!e.is_directory() || name.rfind(std::to_string(r.index) + "-", 0) != 0 ||
+                    name.find('.') != std::string::npos || fs::exists(e.path() / "result.json"))
+                    continue;
+                try {
+                    const auto history = post::readLoadingHistory(e.path());
+                    if (history.empty()) continue;
+                    // Over the last 10 s of flow (the per-step outflow swings with the paddles).
+                    const auto& last = history.back();
+                    auto before = history.begin();
+                    while (std::next(before) != history.end() && std::next(before)->t <= last.t - 10.0) ++before;
+                    const double span = last.t - before->t;
+                    unfinished.push_back({{"index", r.index}, {"status", r.status}, {"run_dir", e.path().string()},
+                                          {"time_s", last.t}, {"loading_kg", last.loading},
+                                          {"loading_10s_before_kg", before->loading},
+                                          {"outflow_kg_h", span > 0 ? (last.out - before->out) / span * 3600.0 : last.outflow * 3600.0},
+                                          {"feed_kg_h", r.params.value("feed_kg_h", nlohmann::json())}});
+                } catch (const std::exception&) {
+                    // A history being written can be cut mid-line: the next look reads it whole.
+                }
+            }
+        }
+    out["unfinished"] = unfinished;
     return out;
 }
 

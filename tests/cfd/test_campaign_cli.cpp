@@ -485,6 +485,14 @@ TEST(CampaignCli, AMixerRunStoppedAndResumedCountsBothSlices) {
     r = runMixload({"campaign", "run", "s", "--max-hours", "0.002", "--dir", dir.string(), "--json"});  // 7.2 s
     ASSERT_EQ(r.rc, 0) << r.err;
     ASSERT_TRUE(nlohmann::json::parse(r.out)["stopped_at_max_hours"].get<bool>()) << r.out;
+    // status says where the stopped point stands.
+    r = runMixload({"campaign", "status", "s", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto unfinished = nlohmann::json::parse(r.out)["unfinished"];
+    ASSERT_EQ(unfinished.size(), 1u) << r.out;
+    EXPECT_EQ(unfinished[0]["index"], 0);
+    EXPECT_GT(unfinished[0]["time_s"].get<double>(), 0.0);
+    EXPECT_GT(unfinished[0]["loading_kg"].get<double>(), 0.0);
     r = runMixload({"campaign", "run", "s", "--dir", dir.string(), "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
     ASSERT_EQ(nlohmann::json::parse(r.out)["counts"]["done"], 1) << r.out;
