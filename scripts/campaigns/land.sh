@@ -1,0 +1,17 @@
+#!/bin/bash
+# land.sh DIR NAME [MIXLOAD]: copies a live campaign DIR/NAME into data/campaigns/mixer-NAME
+# (ledger by SQLite's online backup, kept final fields, kept progress) and its export
+# data/campaigns/mixer-NAME.csv, ready to commit. Safe while its driver runs.
+set -euo pipefail
+[ $# -ge 2 ] || { echo "usage: $0 DIR NAME [MIXLOAD]" >&2; exit 2; }
+here=$(cd "$(dirname "$0")/../.." && pwd)
+dir=$1; name=$2; mixload=${3:-$here/build/app/mixload}
+dst=$here/data/campaigns/mixer-$name
+mkdir -p "$dst"
+sqlite3 "$dir/$name/ledger.sqlite" ".backup $dst/ledger.sqlite"
+for f in fields.h5 fields.xmf progress.h5 progress.xmf; do
+  rm -f "$dst/$f.new"
+  if [ -f "$dir/$name/$f" ]; then cp "$dir/$name/$f" "$dst/$f.new" && mv "$dst/$f.new" "$dst/$f"; else rm -f "$dst/$f"; fi
+done
+"$mixload" campaign export "$name" --dir "$dir" -o "$dst.csv"
+"$mixload" campaign status "$name" --dir "$dir"
