@@ -64,6 +64,27 @@ void writeProgress(const fs::path& home, const store::CaseFile* source, const nl
                                  {{"kind", "campaign progress"}, {"progress_runs", records.dump()}}, file);
 }
 
+// The kept entries other than point `index`'s, column by column; held: whether it had one.
+struct Others {
+    nlohmann::json records = nlohmann::json::array();
+    std::vector<Eigen::VectorXd> alphas, velocities;
+    bool held = false;
+};
+
+Others othersThan(const Kept& kept, int index) {
+    Others o;
+    for (size_t i = 0; i < kept.records.size(); ++i) {
+        if (kept.records[i].at("index").get<int>() == index) {
+            o.held = true;
+            continue;
+        }
+        o.records.push_back(kept.records[i]);
+        o.alphas.push_back(kept.file->column("alpha", i));
+        o.velocities.push_back(kept.file->column("U", i));
+    }
+    return o;
+}
+
 // How the run in runDir began: its own first start when it continues a lost run, else its start
 // (a warm source) or the deposit its scene asks for.
 nlohmann::json firstStart(const fs::path& runDir) {
@@ -118,41 +139,22 @@ nlohmann::json keepPointProgress(const fs::path& home, int index, const fs::path
                                 {"slices", slices},
                                 {"first_start", firstStart(runDir)},
                                 {"kept_utc", utcNow()}};
-    Kept kept = readProgress(home);
-    nlohmann::json records = nlohmann::json::array();
-    std::vector<Eigen::VectorXd> alphas, velocities;
-    if (kept.file && kept.file->meshFingerprint() == latest.meshFingerprint())
-        for (size_t i = 0; i < kept.records.size(); ++i) {
-            if (kept.records[i].at("index").get<int>() == index) continue;
-            records.push_back(kept.records[i]);
-            alphas.push_back(kept.file->column("alpha", i));
-            velocities.push_back(kept.file->column("U", i));
-        }
-    records.push_back(record);
-    alphas.push_back(latest.column("alpha", last));
-    velocities.push_back(latest.column("U", last));
-    writeProgress(home, &latest, records, alphas, velocities);
+    const Kept kept = readProgress(home);
+    Others o = kept.file && kept.file->meshFingerprint() == latest.meshFingerprint() ? othersThan(kept, index) : Others{};
+    o.records.push_back(record);
+    o.alphas.push_back(latest.column("alpha", last));
+    o.velocities.push_back(latest.column("U", last));
+    writeProgress(home, &latest, o.records, o.alphas, o.velocities);
     return {{"index", index}, {"time_s", record["time_s"]}, {"core_seconds", core}};
 }
 
 void dropFinishedProgress(const fs::path& home, int index) {
-    Kept kept = readProgress(home);
+    const Kept kept = readProgress(home);
     if (!kept.file) return;
-    nlohmann::json records = nlohmann::json::array();
-    std::vector<Eigen::VectorXd> alphas, velocities;
-    bool held = false;
-    for (size_t i = 0; i < kept.records.size(); ++i) {
-        if (kept.records[i].at("index").get<int>() == index) {
-            held = true;
-            continue;
-        }
-        records.push_back(kept.records[i]);
-        alphas.push_back(kept.file->column("alpha", i));
-        velocities.push_back(kept.file->column("U", i));
-    }
-    if (!held) return;
+    const Others o = othersThan(kept, index);
+    if (!o.held) return;
     // The file is read whole above; its rewrite replaces it by rename.
-    writeProgress(home, &*kept.file, records, alphas, velocities);
+    writeProgress(home, &*kept.file, o.records, o.alphas, o.velocities);
 }
 
 fs::path progressStart(const fs::path& home, int index, const fs::path& runDir) {
