@@ -6,6 +6,7 @@
 
 #include "app/commands.hpp"
 #include "campaign/campaign.hpp"
+#include "campaign/retry.hpp"
 #include "common/input_error.hpp"
 #include "common/process.hpp"
 #include "store/campaign_fields.hpp"
@@ -20,6 +21,7 @@ struct CampaignCmd {
     experiments::CampaignRunOptions run;
     bool json = false, adaptive = false;
     double depositFactor = 0.5;
+    int point = -1;
     std::string checkModel;
     std::vector<std::string> warmFrom;
 };
@@ -238,6 +240,24 @@ void addCampaign(CLI::App& app, Action& action) {
             if (o->json) std::cout << j.dump(2) << '\n';
             else
                 std::cout << j["kept"] << " runs' final fields in " << j["file"].get<std::string>() << " (" << j["added"] << " added)\n";
+            return 0;
+        };
+    });
+
+    auto* rq = camp->add_subcommand("requeue",
+                                    "Give a queued or failed point its first attempt back once the cause of its failure is mended: it "
+                                    "continues in its first attempt's run directory instead of starting over as a retry (no driver may run)");
+    rq->add_option("name", o->spec.place.name, "Campaign name")->required();
+    rq->add_option("--point", o->point, "Design point (its index)")->required();
+    rq->add_option("--dir", o->spec.place.dir, "Where campaigns live")->capture_default_str();
+    rq->add_flag("--json", o->json, "Print JSON");
+    rq->callback([&action, o] {
+        action = [o] {
+            const auto j = experiments::requeuePoint(o->spec.place, o->point);
+            if (o->json) std::cout << j.dump(2) << '\n';
+            else
+                std::cout << "campaign " << o->spec.place.name << ": point " << o->point << " queued as never tried (was "
+                          << j["before"]["status"].get<std::string>() << " after " << j["before"]["attempts"] << " attempts)\n";
             return 0;
         };
     });

@@ -270,12 +270,15 @@ void Ledger::markFailed(long id, const std::string& error, bool failed) {
     tx.commit();
 }
 
-void Ledger::release(long id) {
-    Transaction tx(db_);
-    Stmt u(db_, "UPDATE runs SET status = 'queued', attempts = MAX(attempts - 1, 0) WHERE id = ?");
+// One statement on one run: atomic as it stands (SQLite's autocommit).
+void Ledger::updateRun(const char* sql, long id) {
+    Stmt u(db_, sql);
     u.bind(1, static_cast<long long>(id));
     u.step();
-    tx.commit();
+}
+
+void Ledger::release(long id) {
+    updateRun("UPDATE runs SET status = 'queued', attempts = MAX(attempts - 1, 0) WHERE id = ?", id);
 }
 
 int Ledger::requeueRunning(const std::string& campaign) {
@@ -288,6 +291,10 @@ int Ledger::requeueRunning(const std::string& campaign) {
     const int n = sqlite3_changes(db_);
     tx.commit();
     return n;
+}
+
+void Ledger::requeueAsFirst(long id) {
+    updateRun("UPDATE runs SET status = 'queued', attempts = 0, error = NULL, finished = NULL WHERE id = ?", id);
 }
 
 std::vector<LedgerRun> Ledger::runs(const std::string& campaign) const {

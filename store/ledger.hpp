@@ -75,6 +75,8 @@ public:
     // Puts runs marked running back in the queue without counting their interrupted attempt (a
     // fresh driver after a crash).
     int requeueRunning(const std::string& campaign);
+    // Queues a run as never tried (attempts 0, no error): its next attempt is a first one again.
+    void requeueAsFirst(long id);
 
     std::vector<LedgerRun> runs(const std::string& campaign) const;
     // Counts by status.
@@ -84,6 +86,7 @@ public:
 
 private:
     void exec(const std::string& sql) const;
+    void updateRun(const char* sql, long id);
     sqlite3* db_ = nullptr;
 };
 

@@ -4,10 +4,13 @@
 #include <chrono>
 #include <fstream>
 #include <iostream>
-#include <optional>
-#include <set>
+#include <cctype>
 #include <cstdlib>
+#include <optional>
+#include <regex>
+#include <set>
 
+#include "common/atomic_file.hpp"
 #include "common/clock.hpp"
 #include "common/input_error.hpp"
 #include "common/process.hpp"
@@ -138,7 +141,37 @@ std::vector<fs::path> processorDirs(const fs::path& caseDir) {
         if (e.is_directory() && e.path().filename().string().rfind("processor", 0) == 0) out.push_back(e.path());
     return out;
 }
+
+// Significant digits of a time name as OpenFOAM writes it (general format, no trailing zeros).
+int significantDigits(const std::string& name) {
+    std::string digits;
+    for (const char c : name.substr(0, name.find_first_of("eE")))
+        if (std::isdigit(static_cast<unsigned char>(c))) digits += c;
+    const auto first = digits.find_first_not_of('0');
+    return first == std::string::npos ? 1 : static_cast<int>(digits.size() - first);
+}
 }  // namespace
+
+int fitTimePrecision(const fs::path& caseDir) {
+    const fs::path dict = caseDir / "system" / "controlDict";
+    if (!fs::exists(dict)) return 0;
+    int need = 0;
+    std::vector<fs::path> dirs = processorDirs(caseDir);
+    dirs.push_back(caseDir);
+    for (const auto& d : dirs)
+        if (const auto latest = latestTimeDir(d); !latest.empty())
+            need = std::max(need, significantDigits(latest.filename().string()));
+    std::ifstream in(dict);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    static const std::regex entry(R"((^|\n)(\s*timePrecision\s+)(\d+)(\s*;))");
+    std::smatch m;
+    if (!std::regex_search(text, m, entry)) return 0;
+    const int has = std::stoi(m[3].str());
+    if (need <= has) return has;
+    writeFileAtomic(dict, m.prefix().str() + m[1].str() + m[2].str() + std::to_string(need) + m[4].str() +
+                              m.suffix().str());
+    return need;
+}
 
 void gatherParallelTimes(const fs::path& caseDir, int np) {
     const auto procs = processorDirs(caseDir);
@@ -168,6 +201,7 @@ void gatherParallelTimes(const fs::path& caseDir, int np) {
 
 double runSolver(const SolverRun& r) {
     const auto start = std::chrono::steady_clock::now();
+    fitTimePrecision(r.caseDir);
     // A parallel slice stopped or killed may have left its newest times in processor*/ only.
     gatherParallelTimes(r.caseDir, r.np);
     // A solver killed while writing leaves a time it cannot restart from: resume before it.

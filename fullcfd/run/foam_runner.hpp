@@ -53,6 +53,14 @@ std::optional<std::filesystem::path> setAsidePartialTime(const std::filesystem::
 // on another number of ranks (np) than it has.
 void gatherParallelTimes(const std::filesystem::path& caseDir, int np);
 
+// A solver that wrote its times with more digits than the case's timePrecision (OpenFOAM adds
+// digits when write times drift apart) must restart with as many: v1912's own search for them
+// stops early (at 74.68951163209499 its 18- and 17-digit names agree, so it never tries 16 and
+// looks for 74.68951163). Raises timePrecision in system/controlDict to the digits of the latest
+// time's name (case and processor*); returns the precision the case then has (0 without one).
+// runSolver does it before every slice.
+int fitTimePrecision(const std::filesystem::path& caseDir);
+
 // Latest time directory (numeric name, as written: a restart needs its digits) of a case, or an
 // empty path if none past 0; latestTime is its time, or 0.
 std::filesystem::path latestTimeDir(const std::filesystem::path& caseDir);

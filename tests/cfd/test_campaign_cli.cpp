@@ -19,6 +19,7 @@
 #include "common/atomic_file.hpp"
 #include "run/foam_runner.hpp"
 #include "run/run_dir.hpp"
+#include "store/ledger.hpp"
 
 using namespace mixload::testing;
 using mixload::readFile;
@@ -651,4 +652,75 @@ TEST(CampaignCli, AHalfWrittenLatestTimeIsSetAsideAndTheRunResumesBeforeIt) {
     for (const auto& e : fs::directory_iterator(dir / "p" / "runs")) dirs += e.is_directory();
     EXPECT_EQ(dirs, 1);  // no retry directory
     EXPECT_TRUE(fs::exists(run / "result.json"));
+}
+
+TEST(CampaignCli, ARunWhoseTimesGrewDigitsResumesFromItsLatestTime) {
+    // v2's point 12 wrote 74.68951163209499 (OpenFOAM adds digits as write times drift) and its
+    // next slice failed at once: v1912 looked for 74.68951163/p_rgh, the failure counted as an
+    // attempt, and the retry started over in a new directory, 75 s of flow lost. A finished
+    // collapse is given a later time whose 16-digit name v1912's search misses (its 18- and
+    // 17-digit names agree); the solver must start from it (past the end time: it reads the
+    // fields and stops).
+    const fs::path dir = scratchDir("time-digits");
+    const auto r = runMixload({"collapse", "--material", "quartz", "--aspect", "2", "--cells-per-length", "8", "--out",
+                               (dir / "c").string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const fs::path last = mixload::run::latestTimeDir(dir / "c");
+    const double end = mixload::run::latestTime(dir / "c");
+    const auto digits = [](double x, int p) {
+        std::ostringstream o;
+        o.precision(p);
+        o << x;
+        return o.str();
+    };
+    std::string name;
+    for (int k = 1; name.empty() && k < 100000; ++k) {
+        const double x = std::stod(digits(end * 1.01 + k * 1.37e-13, 16));
+        if (digits(x, 18) == digits(x, 17) && digits(x, 16) != digits(x, 17) && digits(x, 16) != digits(x, 15))
+            name = digits(x, 16);
+    }
+    ASSERT_FALSE(name.empty());
+    fs::copy(last, dir / "c" / name, fs::copy_options::recursive);
+    mixload::run::SolverRun s;
+    s.caseDir = dir / "c";
+    EXPECT_NO_THROW(mixload::run::runSolver(s));
+    const std::string log = readFile(dir / "c" / "log.interFoam");
+    EXPECT_NE(log.find("Create mesh for time = " + name), std::string::npos) << name;
+    EXPECT_NE(readFile(dir / "c" / "system" / "controlDict").find("timePrecision 16;"), std::string::npos);
+    EXPECT_EQ(mixload::run::fitTimePrecision(dir / "c"), 16);  // once raised, left as it is
+}
+
+TEST(CampaignCli, RequeueGivesAFailedPointItsFirstAttemptBack) {
+    // A point whose resume failed (an attempt counted) goes back to its first attempt's scene and
+    // directory once the cause is mended; done and unknown points are refused, the ledger unchanged.
+    const fs::path dir = scratchDir("requeue");
+    const auto ranges = rangesFile(dir, "r", "scene = \"collapse\"\n[aspect]\nmin = 1\nmax = 3\nunit = \"1\"\n");
+    auto r = runMixload({"campaign", "create", "q", "--ranges", ranges.string(), "--n", "2", "--mesh", "10", "--dir", dir.string()});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    {
+        mixload::store::Ledger l(dir / "q" / "ledger.sqlite");
+        const auto first = l.claimNext("q", 2, false);
+        ASSERT_TRUE(first);
+        l.markFailed(first->id, "resume failed at once", false);
+        const auto second = l.claimNext("q", 2, false, l.runs("q").at(1).id);
+        ASSERT_TRUE(second);
+        l.markDone(second->id, nlohmann::json{{"runout_star", 1.0}}, 1, 1, "");
+    }
+    r = runMixload({"campaign", "requeue", "q", "--point", "1", "--dir", dir.string()});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_NE(r.err.find("point"), std::string::npos) << r.err;
+    r = runMixload({"campaign", "requeue", "q", "--point", "7", "--dir", dir.string()});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_NE(r.err.find("0-1"), std::string::npos) << r.err;
+    r = runMixload({"campaign", "requeue", "q", "--point", "0", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["before"]["attempts"], 1);
+    EXPECT_EQ(j["before"]["error"], "resume failed at once");
+    mixload::store::Ledger l(dir / "q" / "ledger.sqlite");
+    const auto runs = l.runs("q");
+    EXPECT_EQ(runs.at(0).status, "queued");
+    EXPECT_EQ(runs.at(0).attempts, 0);
+    EXPECT_TRUE(runs.at(0).error.empty());
+    EXPECT_EQ(runs.at(1).status, "done");
 }
