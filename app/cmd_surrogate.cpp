@@ -38,8 +38,10 @@ surrogates::Table loadRuns(const SurrogateCmd& o, nlohmann::json& source) {
     if (!o.campaign.empty()) {
         return experiments::campaignTable(o.campaign, o.dir, source);
     }
-    source = {{"table", o.table}};
-    return surrogates::readTable(o.table);
+    auto t = surrogates::readTable(o.table);
+    source = t.provenance;
+    source["table"] = o.table;
+    return t;
 }
 
 std::string pct(const nlohmann::json& v) {
@@ -252,10 +254,19 @@ int runCheck(const std::string& modelPath, const std::string& campaign, const st
     o.dir = dir;
     o.table = table;
     if (o.campaign.empty() && o.table.empty()) {
-        // The campaign the model was trained on.
+        // The runs the model was trained on: its table (a shipped model's is the campaign's export
+        // under data/, found there from any directory), else its campaign.
         const auto& src = m.provenance().value("source", nlohmann::json::object());
-        if (!src.contains("campaign")) throw InputError("--campaign / --table", "(neither)", "the runs to check against");
-        o.campaign = src["campaign"];
+        if (src.contains("table")) {
+            std::filesystem::path t = src["table"].get<std::string>();
+            if (!std::filesystem::exists(t) && t.is_relative() && *t.begin() == "data")
+                t = std::filesystem::path(MIXLOAD_DATA_DIR) / t.lexically_relative("data");
+            o.table = t.string();
+        } else if (src.contains("campaign")) {
+            o.campaign = src["campaign"];
+        } else {
+            throw InputError("--campaign / --table", "(neither)", "the runs to check against");
+        }
         const std::string ledger = src.value("ledger", std::string());
         const auto cut = ledger.rfind("/" + o.campaign + "/ledger.sqlite");
         if (cut != std::string::npos) o.dir = ledger.substr(0, cut);

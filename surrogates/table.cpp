@@ -3,6 +3,7 @@
 
 #include <fstream>
 #include <map>
+#include <regex>
 #include <sstream>
 
 #include "common/input_error.hpp"
@@ -42,7 +43,25 @@ namespace {
 struct Csv {
     std::map<std::string, size_t> col;
     std::vector<std::vector<std::string>> rows;
+    nlohmann::json provenance = nlohmann::json::object();
 };
+
+// The campaign export's first line; anything else (or a base that is not JSON) gives nothing.
+nlohmann::json exportProvenance(const std::string& line) {
+    static const std::regex head(
+        R"(^# campaign (\S+), scene (\S+), design (\S+), seed (\d+), base (\{.*\}), created (\S+) by mixload (\S+) \((\S*)\)\s*$)");
+    std::smatch m;
+    if (!std::regex_match(line, m, head)) return nlohmann::json::object();
+    auto base = nlohmann::json::parse(m[5].str(), nullptr, false);
+    if (base.is_discarded() || !base.is_object()) return nlohmann::json::object();
+    return {{"campaign", m[1].str()},
+            {"design", m[3].str()},
+            {"seed", std::stoull(m[4].str())},
+            {"base", base},
+            {"campaign_created", m[6].str()},
+            {"campaign_mixload_version", m[7].str()},
+            {"campaign_git_commit", m[8].str()}};
+}
 
 Csv parseCsv(const std::filesystem::path& csv) {
     std::ifstream is(csv);
@@ -51,6 +70,7 @@ Csv parseCsv(const std::filesystem::path& csv) {
     std::string line;
     bool header = false;
     while (std::getline(is, line)) {
+        if (!header && c.provenance.empty() && line.rfind("# campaign ", 0) == 0) c.provenance = exportProvenance(line);
         if (line.empty() || line[0] == '#') continue;
         auto f = splitCsv(line);
         if (!header) {
@@ -86,6 +106,7 @@ Table readTable(const std::filesystem::path& csv) {
     if (!c.col.count(kOutputName)) throw InputError(csv.string() + ": no column '" + kOutputName + "'");
     const size_t mcol = c.col.at(kOutputName);
     Table t;
+    t.provenance = c.provenance;
     size_t rowNo = 0;
     for (const auto& f : c.rows) {
         ++rowNo;

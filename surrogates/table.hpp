@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "inputs.hpp"
 
 namespace mixload::surrogates {
@@ -21,6 +23,11 @@ struct Table {
     // Campaign runs that repeat a design point from another deposit (campaign replicate): they
     // measure the label noise (campaign noise) and are neither training nor hold-out points.
     size_t replicates = 0;
+    // From a campaign export's first line ("# campaign NAME, scene ..., design ..., seed ..., base
+    // {...}, created ... by mixload V (COMMIT)"): campaign, design, seed, base, campaign_created,
+    // campaign_mixload_version, campaign_git_commit, as a model fitted to the campaign records
+    // them. Empty for other tables.
+    nlohmann::json provenance = nlohmann::json::object();
 };
 
 // Reads a CSV such as `mixload campaign export` writes ('#' lines are comments). Needs the seven
