@@ -38,10 +38,6 @@ Kept readProgress(const fs::path& home) {
     return k;
 }
 
-double fileClockOf(const fs::path& p) {
-    return std::chrono::duration<double>(fs::last_write_time(p).time_since_epoch()).count();
-}
-
 // Rewrites the progress file with `records` and their columns (the mesh from `source`), or removes
 // it when none is left.
 void writeProgress(const fs::path& home, const store::CaseFile* source, const nlohmann::json& records,
@@ -128,7 +124,7 @@ nlohmann::json keepPointProgress(const fs::path& home, int index, const fs::path
     if (std::abs(latest.times().back() - run::latestTime(runDir)) > 1e-9 * std::max(1.0, latest.times().back()))
         throw std::runtime_error("the latest time of " + runDir.string() + " lacks alpha or U");
     // Every slice whole, the time spent after the kept time included: it was spent on the point.
-    const auto slices = run::closedSlices(runDir, fileClockOf(timeDir), "kept progress: ended at its last written time");
+    const auto slices = run::closedSlices(runDir, run::fileClockOf(timeDir), "kept progress: ended at its last written time");
     double wall = 0, core = 0;
     for (const auto& s : slices) wall += s.value("wall_seconds", 0.0), core += s.value("core_seconds", 0.0);
     const nlohmann::json record{{"index", index},

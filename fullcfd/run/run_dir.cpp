@@ -91,17 +91,21 @@ double fileClockNow() {
 }
 
 // When anything in the case last wrote a log: the end of a slice whose process was killed.
-// (The file clock's epoch may lie in the future: its readings can be negative.)
 std::optional<double> lastLogWrite(const fs::path& dir) {
     std::optional<double> last;
     for (const auto& e : fs::directory_iterator(dir)) {
         if (e.path().filename().string().rfind("log.", 0) != 0) continue;
-        const double t = std::chrono::duration<double>(fs::last_write_time(e.path()).time_since_epoch()).count();
+        const double t = fileClockOf(e.path());
         last = std::max(last.value_or(t), t);
     }
     return last;
 }
 }  // namespace
+
+// (The file clock's epoch may lie in the future: its readings can be negative.)
+double fileClockOf(const fs::path& p) {
+    return std::chrono::duration<double>(fs::last_write_time(p).time_since_epoch()).count();
+}
 
 nlohmann::json closedSlices(const fs::path& dir, std::optional<double> end, const std::string& why) {
     const fs::path file = dir / "slices.json";

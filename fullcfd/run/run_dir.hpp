@@ -56,6 +56,9 @@ private:
     nlohmann::json slices_;
 };
 
+// When a file was last written, in the seconds slices.json counts in (the file system's clock).
+double fileClockOf(const std::filesystem::path& p);
+
 // <dir>/slices.json with any slice left open (a process stopped or killed) closed at `end` (file
 // clock seconds; none: no time) and marked `why`; empty without the file.
 nlohmann::json closedSlices(const std::filesystem::path& dir, std::optional<double> end, const std::string& why);
