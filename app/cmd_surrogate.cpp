@@ -283,6 +283,16 @@ int runCheck(const std::string& modelPath, const std::string& campaign, const st
     if (!o.campaign.empty())
         if (const auto noise = experiments::campaignNoise({o.campaign, o.dir}); noise["n"].get<int>() > 0)
             r["label_noise"] = {{"replicate_pairs", noise["n"]}, {"run_noise", noise["run_noise"]}};
+    // Runs of another scene (another mesh, method or base) measure another model: their errors are
+    // shown, never added to this model's history.
+    const auto modelBase = m.provenance().value("source", nlohmann::json::object()).value("base", nlohmann::json());
+    const auto runsBase = source.value("base", nlohmann::json());
+    r["same_scene"] = modelBase.is_null() || runsBase.is_null() ? nlohmann::json() : nlohmann::json(modelBase == runsBase);
+    if (r["same_scene"] == false) {
+        std::cerr << "mixload: warning: these runs are of another scene than the model's (runs " << runsBase.dump() << ", model "
+                  << modelBase.dump() << "): not recorded in its check history\n";
+        record = false;
+    }
     if (record) {
         m.checks().push_back({{"date_utc", utcNow()},
                               {"source", source},

@@ -1,7 +1,8 @@
 #!/bin/bash
 # land.sh DIR NAME [MIXLOAD]: copies a live campaign DIR/NAME into data/campaigns/mixer-NAME
 # (ledger by SQLite's online backup, kept final fields, kept progress) and its export
-# data/campaigns/mixer-NAME.csv, ready to commit. Safe while its driver runs.
+# data/campaigns/mixer-NAME.csv, ready to commit, and checks the shipped kriging model against it.
+# Safe while its driver runs.
 set -euo pipefail
 [ $# -ge 2 ] || { echo "usage: $0 DIR NAME [MIXLOAD]" >&2; exit 2; }
 here=$(cd "$(dirname "$0")/../.." && pwd)
@@ -14,4 +15,8 @@ for f in fields.h5 fields.xmf progress.h5 progress.xmf; do
   if [ -f "$dir/$name/$f" ]; then cp "$dir/$name/$f" "$dst/$f.new" && mv "$dst/$f.new" "$dst/$f"; else rm -f "$dst/$f"; fi
 done
 "$mixload" campaign export "$name" --dir "$dir" -o "$dst.csv"
+# Every run that lands is checked against the shipped model (recorded in its check history when
+# the runs are of the model's own scene; another scene's are shown, not recorded).
+model=$here/data/models/mixer-loading-kriging.json
+[ -f "$model" ] && { "$mixload" check --model "$model" --table "$dst.csv" || true; }
 "$mixload" campaign status "$name" --dir "$dir"

@@ -216,6 +216,23 @@ TEST(SurrogateCli, ShippedModelsReproduceTheirRecordedAccuracy) {
         for (const char* k : {"mean_rel_error", "max_rel_error", "coverage95"})
             EXPECT_NEAR(j["loo"][k].get<double>(), model["validation"][k].get<double>(), 1e-9) << name << ' ' << k;
     }
+    // Runs of another scene (campaign v2c-holdout: the same scene on 2 cm) are checked but never
+    // recorded in the model's history; the model's own campaign is.
+    const fs::path dir = scratchDir("shipped-check");
+    const fs::path copy = dir / "k.json";
+    fs::copy_file(std::string(MIXLOAD_DATA_DIR) + "/models/mixer-loading-kriging.json", copy);
+    const auto history = [&] { return nlohmann::json::parse(mixload::readFile(copy))["checks"].size(); };
+    const auto before = history();
+    auto r = runMixload({"check", "--model", copy.string(), "--table", std::string(MIXLOAD_DATA_DIR) + "/campaigns/mixer-v2c-holdout.csv", "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["same_scene"], false);
+    EXPECT_NE(r.err.find("another scene"), std::string::npos) << r.err;
+    EXPECT_EQ(history(), before);
+    r = runMixload({"check", "--model", copy.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["same_scene"], true);
+    EXPECT_EQ(history(), before + 1);
+
     // The superseded scene's figures quoted in docs/surrogates.md (24 hold-out runs, 32 by LOO).
     struct Expected {
         const char* model;
