@@ -49,24 +49,30 @@ int predictBatch(const PredictCmd& o, const surrogates::Surrogate& m) {
     std::ostringstream os;
     os << std::setprecision(17);
     for (const auto& s : kInputSpecs) os << s.name << ',';
-    os << "loading_kg,ci95_lo_kg,ci95_hi_kg,in_training_box,refused\n";
-    size_t outside = 0, refused = 0;
+    os << "loading_kg,ci95_lo_kg,ci95_hi_kg,in_training_box,refused,above_full_barrel\n";
+    size_t outside = 0, refused = 0, overfull = 0;
     for (const auto& x : points) {
         const auto p = m.predict(x, ws);
         for (double v : x) os << v << ',';
         // Rows too far outside the box get no number (as predict refuses them), unless --extrapolate.
         const bool refuse = !o.extrapolate && p.outside > surrogates::kMaxExtrapolation;
-        if (refuse) os << ",,,false,true\n";
-        else os << p.m << ',' << p.lo << ',' << p.hi << ',' << (p.inBox ? "true" : "false") << ",false\n";
+        if (refuse) os << ",,,false,true,\n";
+        else os << p.m << ',' << p.lo << ',' << p.hi << ',' << (p.inBox ? "true" : "false") << ",false," << (p.overfull ? "true" : "false") << '\n';
         outside += !p.inBox;
         refused += refuse;
+        overfull += !refuse && p.overfull;
     }
     writeFileAtomic(o.output, os.str());
     if (outside) std::cerr << "mixload: warning: " << outside << " of " << points.size() << " points lie outside the training box (in_training_box = false)\n";
     if (refused)
         std::cerr << "mixload: warning: " << refused << " of them lie more than " << formatNumber(100 * surrogates::kMaxExtrapolation)
                   << "% of a trained range beyond it and have no loading (refused = true; --extrapolate to predict them anyway)\n";
-    if (o.json) std::cout << nlohmann::json{{"rows", points.size()}, {"outside_training_box", outside}, {"refused", refused}, {"output", o.output}}.dump(2) << '\n';
+    if (overfull)
+        std::cerr << "mixload: warning: " << overfull << " of the answers exceed a full barrel of their powder (above_full_barrel = true): "
+                  << "the model is not valid there\n";
+    if (o.json)
+        std::cout << nlohmann::json{{"rows", points.size()}, {"outside_training_box", outside}, {"refused", refused},
+                                    {"above_full_barrel", overfull}, {"output", o.output}}.dump(2) << '\n';
     else std::cout << points.size() << " predictions written to " << o.output << '\n';
     return 0;
 }
@@ -81,12 +87,16 @@ int predict(const PredictCmd& o) {
     const auto p = m.predict(x, ws);
     warnOutside(m, x);
     if (p.clipped) std::cerr << "mixload: warning: the model's answer fell below zero and was cut at 0 kg\n";
+    if (p.overfull)
+        std::cerr << "mixload: warning: M = " << p.m << " kg exceeds a full barrel of this powder (" << p.fullBarrelKg
+                  << " kg): the model is not valid at this point\n";
     if (o.json) {
         std::cout << experiments::predictionJson(m, x, p, path).dump(2) << '\n';
         return 0;
     }
     std::cout << std::setprecision(4) << "M = " << p.m << " kg";
-    if (!std::isnan(p.lo)) std::cout << " (95% interval " << p.lo << " .. " << p.hi << " kg)";
+    if (p.overfull) std::cout << " (above a full barrel of this powder, " << p.fullBarrelKg << " kg: not valid here)";
+    else if (!std::isnan(p.lo)) std::cout << " (95% interval " << p.lo << " .. " << p.hi << " kg)";
     std::cout << "  [" << m.kind() << ", " << path << "]\n  model of " << m.sourceLabel() << '\n';
     return 0;
 }
@@ -189,9 +199,13 @@ int whatif(const WhatifCmd& o) {
     }
     out["points"] = experiments::compareFormulations(m, path, a, b, pts, o.extrapolate);
     for (const auto& p : out["points"])
-        for (const char* side : {"base", "new"})
+        for (const char* side : {"base", "new"}) {
             for (const auto& w : p[side].value("outside", nlohmann::json::array()))
                 std::cerr << "mixload: warning: " << side << ": outside the training box: " << w.get<std::string>() << '\n';
+            if (p[side].value("above_full_barrel", false))
+                std::cerr << "mixload: warning: " << side << ": M = " << p[side]["loading_kg"].get<double>() << " kg exceeds a full barrel ("
+                          << p[side]["full_barrel_kg"].get<double>() << " kg): the model is not valid at this point\n";
+        }
     if (o.json) {
         std::cout << out.dump(2) << '\n';
         return 0;

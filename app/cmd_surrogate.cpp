@@ -88,7 +88,7 @@ int fit(const SurrogateCmd& o) {
     std::vector<surrogates::Row> train(runs.rows.begin(), runs.rows.end() - o.holdout);
     nlohmann::json held = nlohmann::json::array();
     for (auto it = runs.rows.end() - o.holdout; it != runs.rows.end(); ++it) held.push_back(it->id);
-    const nlohmann::json provenance{{"source", source},
+    nlohmann::json provenance{{"source", source},
                                     {"runs_usable", runs.rows.size()},
                                     {"runs_skipped", runs.skipped},
                                     {"holdout_ids", held},
@@ -101,6 +101,7 @@ int fit(const SurrogateCmd& o) {
                                     {"command", "mixload surrogate fit " + (o.campaign.empty() ? "--table " + o.table : "--campaign " + o.campaign) +
                                                     " --kind " + o.kind + " --holdout " + std::to_string(o.holdout) +
                                                     (o.similarity ? " --similarity" : "") + (o.noise > 0 ? " --noise " + formatNumber(o.noise) : "")}};
+    if (const auto v = experiments::openBarrelVolume(source.value("base", nlohmann::json()))) provenance["full_barrel_m3"] = *v;
     const auto t0 = std::chrono::steady_clock::now();
     auto model = surrogates::Surrogate::fit(train, f, provenance);
     const double seconds = secondsSince(t0);

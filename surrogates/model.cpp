@@ -189,6 +189,7 @@ Surrogate Surrogate::fit(const std::vector<Row>& train, const FitOptions& o, nlo
     best.validation_["transform"] = best.tf_.describe();
     for (const auto& r : train) best.trained_.push_back(r.id);
     best.provenance_ = std::move(provenance);
+    best.fullBarrelM3_ = best.provenance_.is_object() ? best.provenance_.value("full_barrel_m3", 0.0) : 0.0;
     return best;
 }
 
@@ -268,6 +269,12 @@ Prediction Surrogate::predict(const Point& x, Workspace& ws) const {
         p.lo = std::max(p.lo, 0.0);
         p.m = std::max(p.m, 0.0);
         p.hi = std::max(p.hi, 0.0);
+    }
+    if (fullBarrelM3_ > 0) {
+        p.fullBarrelKg = x[kRho] * fullBarrelM3_;
+        p.overfull = p.m > p.fullBarrelKg;
+        p.lo = std::min(p.lo, p.fullBarrelKg);
+        p.hi = std::min(p.hi, p.fullBarrelKg);
     }
     p.inBox = inBox(x);
     p.outside = distanceOf(z);
@@ -424,6 +431,7 @@ Surrogate Surrogate::fromJson(const nlohmann::json& j) {
     s.validation_ = need(j, "validation");
     s.loo_ = need(j, "loo");
     s.provenance_ = need(j, "provenance");
+    s.fullBarrelM3_ = s.provenance_.is_object() ? s.provenance_.value("full_barrel_m3", 0.0) : 0.0;
     s.checks_ = need(j, "checks");
     return s;
 }

@@ -63,6 +63,11 @@ struct Prediction {
     // box, as a share of that input's trained range (in the model's own, possibly log, units).
     double outside = 0;
     bool clipped = false;      // the mean or the interval fell below zero and was set to 0
+    // A full barrel of this powder (its bulk density times the barrel's open volume, when the model
+    // knows its scene's): no loading exceeds it. The interval is cut there, and a mean above it is
+    // flagged: the model is not valid at this point.
+    double fullBarrelKg = 0;   // 0: unknown
+    bool overfull = false;
 };
 
 // The difference of two predictions, M(b) - M(a), and the 95% interval of the difference between
@@ -141,6 +146,7 @@ private:
     std::optional<ResponseSurface> rsm_;
     std::optional<Kriging> kriging_;
     double tQuantile_ = 0;       // rsm: Student t 97.5% quantile at its dof
+    double fullBarrelM3_ = 0;    // provenance "full_barrel_m3": the scene's open barrel volume (0: unknown)
     std::vector<std::string> trained_;
     nlohmann::json validation_, provenance_, checks_ = nlohmann::json::array(), loo_;
 };

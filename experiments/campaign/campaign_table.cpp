@@ -12,6 +12,15 @@ surrogates::Point mixerInputs(const nlohmann::json& base, const nlohmann::json& 
             s.feedKgH,      s.rpm};
 }
 
+std::optional<double> openBarrelVolume(const nlohmann::json& base) {
+    if (!base.is_object() || base.value("kind", std::string()) != "mixer") return std::nullopt;
+    try {
+        return mixerSceneFor(base, nlohmann::json::object()).geometry.openVolume();
+    } catch (const std::exception&) {
+        return std::nullopt;  // a scene renamed or retired since: the bound is only left out
+    }
+}
+
 surrogates::Table campaignTable(const std::string& name, const std::string& dir, nlohmann::json& provenance) {
     const CampaignPlace o{name, dir};
     std::unique_ptr<store::Ledger> l;

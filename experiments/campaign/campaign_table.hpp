@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // A mixer campaign's finished, steady runs as surrogate training data.
 #pragma once
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -16,6 +17,11 @@ namespace mixload::experiments {
 // with the point's parameters applied), so that the surrogates' table and the POD regression see a
 // run alike.
 surrogates::Point mixerInputs(const nlohmann::json& base, const nlohmann::json& params);
+
+// The open volume of a mixer campaign's barrel [m3] (bore minus shaft and paddles): a full barrel
+// of a powder is its bulk density times it, the bound no loading exceeds. Nothing for a base that
+// is not a mixer's or that no longer makes a scene.
+std::optional<double> openBarrelVolume(const nlohmann::json& base);
 
 surrogates::Table campaignTable(const std::string& name, const std::string& dir, nlohmann::json& provenance);
 

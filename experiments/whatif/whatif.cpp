@@ -22,6 +22,8 @@ nlohmann::json predictionJson(const surrogates::Surrogate& m, const surrogates::
                      {"in_training_box", p.inBox},
                      {"outside_distance", p.outside},
                      {"clipped_at_zero", p.clipped},
+                     {"full_barrel_kg", p.fullBarrelKg > 0 ? nlohmann::json(p.fullBarrelKg) : nlohmann::json()},
+                     {"above_full_barrel", p.overfull},
                      {"model", modelPath},
                      {"kind", m.kind()},
                      {"source", m.sourceLabel()}};

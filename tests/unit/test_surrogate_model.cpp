@@ -318,6 +318,34 @@ TEST(SurrogateModel, FarOutsideTheBoxTheAnswerStaysPhysical) {
     }
 }
 
+TEST(SurrogateModel, NoLoadingAboveAFullBarrel) {
+    // A model that knows its scene's open barrel volume (provenance full_barrel_m3) cuts its
+    // interval at a full barrel of the powder and flags a mean above it (v2's first response
+    // surface said 22 kg at the reference point, where a full barrel holds 2.07 kg); the bound
+    // survives a save and load, and a model without it answers as before.
+    FitOptions o;
+    o.kind = "rsm";
+    const auto train = rows(30, 17);
+    const Point x = train[3].x;
+    auto unbounded = Surrogate::fit(train, o, {});
+    auto ws = unbounded.makeWorkspace();
+    const auto p0 = unbounded.predict(x, ws);
+    EXPECT_FALSE(p0.overfull);
+    EXPECT_EQ(p0.fullBarrelKg, 0.0);
+    const double v = 0.5 * p0.m / x[kRho];  // half the answer: a barrel too small for it
+    const auto bounded = Surrogate::fromJson(Surrogate::fit(train, o, {{"full_barrel_m3", v}}).toJson());
+    const auto p = bounded.predict(x, ws);
+    EXPECT_TRUE(p.overfull);
+    EXPECT_NEAR(p.fullBarrelKg, v * x[kRho], 1e-15);
+    EXPECT_DOUBLE_EQ(p.m, p0.m);  // the model's own number, shown with the flag
+    EXPECT_LE(p.hi, p.fullBarrelKg);
+    EXPECT_LE(p.lo, p.fullBarrelKg);
+    const auto roomy = Surrogate::fit(train, o, {{"full_barrel_m3", 100 * p0.hi / x[kRho]}});
+    const auto q = roomy.predict(x, ws);
+    EXPECT_FALSE(q.overfull);
+    EXPECT_DOUBLE_EQ(q.hi, p0.hi);
+}
+
 TEST(SurrogateModel, LearningCurveFallsWithMoreRuns) {
     const auto train = rows(40, 21), held = rows(20, 22);
     FitOptions o;
