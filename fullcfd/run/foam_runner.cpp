@@ -4,11 +4,11 @@
 #include <chrono>
 #include <fstream>
 #include <iostream>
-#include <cctype>
 #include <cstdlib>
 #include <optional>
 #include <regex>
 #include <set>
+#include <sstream>
 
 #include "common/atomic_file.hpp"
 #include "common/clock.hpp"
@@ -142,35 +142,44 @@ std::vector<fs::path> processorDirs(const fs::path& caseDir) {
     return out;
 }
 
-// Significant digits of a time name as OpenFOAM writes it (general format, no trailing zeros).
-int significantDigits(const std::string& name) {
-    std::string digits;
-    for (const char c : name.substr(0, name.find_first_of("eE")))
-        if (std::isdigit(static_cast<unsigned char>(c))) digits += c;
-    const auto first = digits.find_first_not_of('0');
-    return first == std::string::npos ? 1 : static_cast<int>(digits.size() - first);
+// A time as OpenFOAM names it at a precision (general format, as Time::timeName).
+std::string timeName(double t, int precision) {
+    std::ostringstream os;
+    os.precision(precision);
+    os << t;
+    return os.str();
 }
 }  // namespace
 
-int fitTimePrecision(const fs::path& caseDir) {
+int fitTimePrecision(const fs::path& caseDir, bool decomposed) {
     const fs::path dict = caseDir / "system" / "controlDict";
     if (!fs::exists(dict)) return 0;
-    int need = 0;
-    std::vector<fs::path> dirs = processorDirs(caseDir);
-    dirs.push_back(caseDir);
-    for (const auto& d : dirs)
-        if (const auto latest = latestTimeDir(d); !latest.empty())
-            need = std::max(need, significantDigits(latest.filename().string()));
     std::ifstream in(dict);
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     static const std::regex entry(R"((^|\n)(\s*timePrecision\s+)(\d+)(\s*;))");
     std::smatch m;
     if (!std::regex_search(text, m, entry)) return 0;
     const int has = std::stoi(m[3].str());
-    if (need <= has) return has;
-    writeFileAtomic(dict, m.prefix().str() + m[1].str() + m[2].str() + std::to_string(need) + m[4].str() +
-                              m.suffix().str());
-    return need;
+    // The latest time the solver starts from: the case's, or each rank's.
+    std::vector<std::string> names;
+    const std::vector<fs::path> dirs = decomposed ? processorDirs(caseDir) : std::vector<fs::path>{caseDir};
+    for (const auto& d : dirs)
+        if (const auto latest = latestTimeDir(d); !latest.empty()) names.push_back(latest.filename().string());
+    const auto names_at = [&](int p) {
+        for (const auto& n : names)
+            if (timeName(*parseNumber(n), p) != n) return false;
+        return true;
+    };
+    if (names_at(has)) return has;
+    // Too few digits, or too many (a precision raised for a time since set aside prints digits
+    // the name does not have): the least precision that names them all as written.
+    for (int p = 1; p <= 18; ++p)
+        if (names_at(p)) {
+            writeFileAtomic(dict, m.prefix().str() + m[1].str() + m[2].str() + std::to_string(p) + m[4].str() +
+                                      m.suffix().str());
+            return p;
+        }
+    return has;  // names OpenFOAM did not write: left to the solver to report
 }
 
 void gatherParallelTimes(const fs::path& caseDir, int np) {
@@ -201,7 +210,6 @@ void gatherParallelTimes(const fs::path& caseDir, int np) {
 
 double runSolver(const SolverRun& r) {
     const auto start = std::chrono::steady_clock::now();
-    fitTimePrecision(r.caseDir);
     // A parallel slice stopped or killed may have left its newest times in processor*/ only.
     gatherParallelTimes(r.caseDir, r.np);
     // A solver killed while writing leaves a time it cannot restart from: resume before it.
@@ -219,10 +227,12 @@ double runSolver(const SolverRun& r) {
                                  : fs::path(r.solver).filename().string();
     const std::string logName = "log." + name;
     if (r.np <= 1) {
+        fitTimePrecision(r.caseDir, false);
         check(run(r.caseDir, {r.solver}, logName, onLine, r.deadline), r.caseDir, name, logName);
     } else {
         // The latest time only: a resumed or warm-continued case starts from it.
         if (!fs::exists(r.caseDir / "processor0")) runUtility(r.caseDir, {"decomposePar", "-force", "-latestTime"});
+        fitTimePrecision(r.caseDir, true);
         try {
             check(run(r.caseDir, {"mpirun", "-np", std::to_string(r.np), r.solver, "-parallel"}, logName, onLine,
                       r.deadline),

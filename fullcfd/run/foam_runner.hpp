@@ -54,12 +54,13 @@ std::optional<std::filesystem::path> setAsidePartialTime(const std::filesystem::
 void gatherParallelTimes(const std::filesystem::path& caseDir, int np);
 
 // A solver that wrote its times with more digits than the case's timePrecision (OpenFOAM adds
-// digits when write times drift apart) must restart with as many: v1912's own search for them
-// stops early (at 74.68951163209499 its 18- and 17-digit names agree, so it never tries 16 and
-// looks for 74.68951163). Raises timePrecision in system/controlDict to the digits of the latest
-// time's name (case and processor*); returns the precision the case then has (0 without one).
-// runSolver does it before every slice.
-int fitTimePrecision(const std::filesystem::path& caseDir);
+// digits when write times drift apart) must restart with a precision that names its latest time as
+// written: v1912's own search for more digits stops early (at 74.68951163209499 its 18- and
+// 17-digit names agree, so it never tries 16 and looks for 74.68951163), and never tries fewer.
+// Sets timePrecision in system/controlDict to the least precision that names the latest time of
+// the case (decomposed: of each processor*/) as written, when the one it has does not; returns the
+// precision the case then has (0 without one). runSolver does it before starting the solver.
+int fitTimePrecision(const std::filesystem::path& caseDir, bool decomposed = false);
 
 // Latest time directory (numeric name, as written: a restart needs its digits) of a case, or an
 // empty path if none past 0; latestTime is its time, or 0.

@@ -688,6 +688,15 @@ TEST(CampaignCli, ARunWhoseTimesGrewDigitsResumesFromItsLatestTime) {
     EXPECT_NE(log.find("Create mesh for time = " + name), std::string::npos) << name;
     EXPECT_NE(readFile(dir / "c" / "system" / "controlDict").find("timePrecision 16;"), std::string::npos);
     EXPECT_EQ(mixload::run::fitTimePrecision(dir / "c"), 16);  // once raised, left as it is
+    // Raised for a later time since set aside, 18 digits would print 17 where the name has 16:
+    // the precision comes back down to one that names the latest time as written.
+    const fs::path dict = dir / "c" / "system" / "controlDict";
+    std::string text = readFile(dict);
+    text.replace(text.find("timePrecision 16;"), 17, "timePrecision 18;");
+    mixload::writeFileAtomic(dict, text);
+    const int p = mixload::run::fitTimePrecision(dir / "c");
+    EXPECT_LT(p, 18);
+    EXPECT_EQ(digits(mixload::run::latestTime(dir / "c"), p), mixload::run::latestTimeDir(dir / "c").filename().string());
 }
 
 TEST(CampaignCli, RequeueGivesAFailedPointItsFirstAttemptBack) {
