@@ -29,6 +29,11 @@ void warnOutside(const surrogates::Surrogate& m, const Point& x, const std::stri
         std::cerr << "mixload: warning: " << label << "outside the training box: " << w << '\n';
 }
 
+void warnOverfull(const std::string& label, double m, double fullBarrelKg) {
+    std::cerr << "mixload: warning: " << label << "M = " << m << " kg exceeds a full barrel of this powder (" << fullBarrelKg
+              << " kg): the model is not valid at this point\n";
+}
+
 struct PredictCmd {
     std::string model, batch, output;
     PointOptions point;
@@ -87,9 +92,7 @@ int predict(const PredictCmd& o) {
     const auto p = m.predict(x, ws);
     warnOutside(m, x);
     if (p.clipped) std::cerr << "mixload: warning: the model's answer fell below zero and was cut at 0 kg\n";
-    if (p.overfull)
-        std::cerr << "mixload: warning: M = " << p.m << " kg exceeds a full barrel of this powder (" << p.fullBarrelKg
-                  << " kg): the model is not valid at this point\n";
+    if (p.overfull) warnOverfull("", p.m, p.fullBarrelKg);
     if (o.json) {
         std::cout << experiments::predictionJson(m, x, p, path).dump(2) << '\n';
         return 0;
@@ -203,8 +206,7 @@ int whatif(const WhatifCmd& o) {
             for (const auto& w : p[side].value("outside", nlohmann::json::array()))
                 std::cerr << "mixload: warning: " << side << ": outside the training box: " << w.get<std::string>() << '\n';
             if (p[side].value("above_full_barrel", false))
-                std::cerr << "mixload: warning: " << side << ": M = " << p[side]["loading_kg"].get<double>() << " kg exceeds a full barrel ("
-                          << p[side]["full_barrel_kg"].get<double>() << " kg): the model is not valid at this point\n";
+                warnOverfull(std::string(side) + ": ", p[side]["loading_kg"].get<double>(), p[side]["full_barrel_kg"].get<double>());
         }
     if (o.json) {
         std::cout << out.dump(2) << '\n';

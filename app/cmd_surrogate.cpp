@@ -265,12 +265,12 @@ int runCheck(const std::string& modelPath, const std::string& campaign, const st
             o.table = t.string();
         } else if (src.contains("campaign")) {
             o.campaign = src["campaign"];
+            const std::string ledger = src.value("ledger", std::string());
+            const auto cut = ledger.rfind("/" + o.campaign + "/ledger.sqlite");
+            if (cut != std::string::npos) o.dir = ledger.substr(0, cut);
         } else {
             throw InputError("--campaign / --table", "(neither)", "the runs to check against");
         }
-        const std::string ledger = src.value("ledger", std::string());
-        const auto cut = ledger.rfind("/" + o.campaign + "/ledger.sqlite");
-        if (cut != std::string::npos) o.dir = ledger.substr(0, cut);
     }
     nlohmann::json source;
     const auto runs = loadRuns(o, source);

@@ -189,7 +189,7 @@ Surrogate Surrogate::fit(const std::vector<Row>& train, const FitOptions& o, nlo
     best.validation_["transform"] = best.tf_.describe();
     for (const auto& r : train) best.trained_.push_back(r.id);
     best.provenance_ = std::move(provenance);
-    best.fullBarrelM3_ = best.provenance_.is_object() ? best.provenance_.value("full_barrel_m3", 0.0) : 0.0;
+    best.setFullBarrel();
     return best;
 }
 
@@ -243,6 +243,10 @@ std::vector<std::string> Surrogate::outsideBox(const Point& x) const {
             out.push_back(in_[k].name + " = " + formatNumber(v[k]) + " (trained on " + formatNumber(dmin_[k]) + " .. " +
                           formatNumber(dmax_[k]) + " " + in_[k].unit + ")");
     return out;
+}
+
+void Surrogate::setFullBarrel() {
+    fullBarrelM3_ = provenance_.is_object() ? provenance_.value("full_barrel_m3", 0.0) : 0.0;
 }
 
 Prediction Surrogate::predict(const Point& x, Workspace& ws) const {
@@ -431,7 +435,7 @@ Surrogate Surrogate::fromJson(const nlohmann::json& j) {
     s.validation_ = need(j, "validation");
     s.loo_ = need(j, "loo");
     s.provenance_ = need(j, "provenance");
-    s.fullBarrelM3_ = s.provenance_.is_object() ? s.provenance_.value("full_barrel_m3", 0.0) : 0.0;
+    s.setFullBarrel();
     s.checks_ = need(j, "checks");
     return s;
 }

@@ -136,6 +136,7 @@ private:
     void scale(const Point& x, double* z) const;
     double outputScale(const Point& x) const { return tf_.similarity ? x[kRho] : 1.0; }  // M = scale * model output
     void setInputs();
+    void setFullBarrel();  // from the provenance (fit and load alike)
     int dims() const { return static_cast<int>(in_.size()); }
     std::string kind_;
     Transform tf_;
