@@ -184,13 +184,19 @@ int whatif(const WhatifCmd& o) {
             std::cout << r.dump(2) << '\n';
             return 0;
         }
-        size_t outside = 0;
-        for (const auto& p : r["points"]) outside += !(p["base"]["in_training_box"].get<bool>() && p["new"]["in_training_box"].get<bool>());
+        size_t outside = 0, overfull = 0;
+        for (const auto& p : r["points"]) {
+            outside += !(p["base"]["in_training_box"].get<bool>() && p["new"]["in_training_box"].get<bool>());
+            overfull += p["base"]["above_full_barrel"].get<bool>() || p["new"]["above_full_barrel"].get<bool>();
+        }
         std::cout << "what-if over " << r["points"].size() << " operating points from " << path << " (" << m.sourceLabel() << ")\n  table "
                   << r["table"].get<std::string>();
         if (!r["plot"].is_null()) std::cout << ", plot " << r["plot"].get<std::string>();
         std::cout << '\n';
         if (outside) std::cerr << "mixload: warning: " << outside << " of the points lie outside the model's training box (marked in the table)\n";
+        if (overfull)
+            std::cerr << "mixload: warning: at " << overfull
+                      << " of the points a loading exceeds a full barrel of its powder: not valid there (marked in the table)\n";
         return 0;
     }
     const auto pts = operatingPoints(o);

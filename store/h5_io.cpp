@@ -49,8 +49,11 @@ Handle space(const std::vector<hsize_t>& dims) {
 }  // namespace
 
 Handle createFile(const std::filesystem::path& path) {
-    return {check(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
-                  "create " + path.string()),
+    // The 1.8 format at least: its object headers move an attribute above 64 KiB (a campaign's
+    // kept progress with its monitors' histories) to dense storage, where the default refuses it.
+    Handle fapl(check(H5Pcreate(H5P_FILE_ACCESS), "create a file access property list"), H5Pclose);
+    check(H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_LATEST), "set the file format bounds", 0);
+    return {check(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl), "create " + path.string()),
             H5Fclose};
 }
 

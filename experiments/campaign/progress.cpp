@@ -14,6 +14,7 @@
 #include "common/clock.hpp"
 #include "post/snapshots.hpp"
 #include "run/foam_runner.hpp"
+#include "run/monitor_state.hpp"
 #include "run/run_dir.hpp"
 #include "store/snapshot_file.hpp"
 
@@ -134,6 +135,7 @@ nlohmann::json keepPointProgress(const fs::path& home, int index, const fs::path
                                 {"core_seconds", core},
                                 {"slices", slices},
                                 {"first_start", firstStart(runDir)},
+                                {"monitor", run::keptMonitorState(timeDir)},
                                 {"kept_utc", utcNow()}};
     const Kept kept = readProgress(home);
     Others o = kept.file && kept.file->meshFingerprint() == latest.meshFingerprint() ? othersThan(kept, index) : Others{};
@@ -161,13 +163,14 @@ fs::path progressStart(const fs::path& home, int index, const fs::path& runDir) 
         if (r.at("index").get<int>() != index || r.value("run_dir", "") != runDir.filename().string()) continue;
         const fs::path file = home / "warm" / ("progress-" + std::to_string(index) + ".h5");
         fs::create_directories(file.parent_path());
+        nlohmann::json prov{{"kind", "campaign progress"},
+                            {"continues_run_dir", r.value("run_dir", "")},
+                            {"first_start", r.value("first_start", nlohmann::json()).dump()},
+                            {"slices", r.at("slices").dump()}};
+        if (r.contains("monitor") && !r["monitor"].is_null()) prov["monitor"] = r["monitor"].dump();
         store::writeDerivedSnapshots(*kept.file, {r.at("time_s").get<double>()},
                                      {{"alpha", kept.file->column("alpha", i)}, {"U", kept.file->column("U", i)}},
-                                     {{"kind", "campaign progress"},
-                                      {"continues_run_dir", r.value("run_dir", "")},
-                                      {"first_start", r.value("first_start", nlohmann::json()).dump()},
-                                      {"slices", r.at("slices").dump()}},
-                                     file);
+                                     prov, file);
         return file;
     }
     return {};

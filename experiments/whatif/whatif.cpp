@@ -95,8 +95,9 @@ nlohmann::json whatifReport(const surrogates::Surrogate& m, const std::string& m
            << formatNumber(x[3]) << " | " << formatNumber(x[4]) << " |\n";
     md << "\n| feed [kg/h] | rpm | M base [kg] (95%) | M new [kg] (95%) | dM [kg] (95%) | dM/M | largest driver | in box |\n"
           "|---|---|---|---|---|---|---|---|\n";
+    // A loading above a full barrel of the powder cannot happen: such a row says so where it is read.
     csv << "feed_kg_h,rpm,m_base_kg,m_base_lo,m_base_hi,m_new_kg,m_new_lo,m_new_hi,delta_kg,delta_lo,delta_hi,delta_rel,driver,driver_kg,"
-           "interaction_kg,in_box\n";
+           "interaction_kg,in_box,above_full_barrel\n";
     const auto ci = [](const nlohmann::json& v) { return v.is_null() ? std::string("–") : formatNumber(v[0]) + " – " + formatNumber(v[1]); };
     const auto lo = [](const nlohmann::json& v) { return v.is_null() ? NAN : v[0].get<double>(); };
     const auto hi = [](const nlohmann::json& v) { return v.is_null() ? NAN : v[1].get<double>(); };
@@ -107,17 +108,18 @@ nlohmann::json whatifReport(const surrogates::Surrogate& m, const std::string& m
         for (const auto& a : p["attribution"])
             if (std::abs(a["delta_kg"].get<double>()) > std::abs(driverKg)) driverKg = a["delta_kg"], driver = a["input"];
         const bool inBox = p["base"]["in_training_box"].get<bool>() && p["new"]["in_training_box"].get<bool>();
+        const bool overfull = p["base"]["above_full_barrel"].get<bool>() || p["new"]["above_full_barrel"].get<bool>();
         const double feed = p["feed_kg_h"], rpm = p["rpm"];
         md << "| " << formatNumber(feed) << " | " << formatNumber(rpm) << " | " << formatNumber(p["base"]["loading_kg"]) << " ("
            << ci(p["base"]["ci95_kg"]) << ") | " << formatNumber(p["new"]["loading_kg"]) << " (" << ci(p["new"]["ci95_kg"]) << ") | "
            << formatNumber(p["delta_kg"]) << " (" << ci(p["delta_ci95_kg"]) << ") | " << std::showpos << std::fixed << std::setprecision(1)
            << 100 * p["delta_rel"].get<double>() << std::noshowpos << std::defaultfloat << std::setprecision(6) << "% | " << driver << " ("
-           << formatNumber(driverKg) << " kg) | " << (inBox ? "yes" : "no") << " |\n";
+           << formatNumber(driverKg) << " kg) | " << (inBox ? "yes" : "no") << (overfull ? "; above a full barrel: not valid" : "") << " |\n";
         csv << feed << ',' << rpm << ',' << p["base"]["loading_kg"].get<double>() << ',' << lo(p["base"]["ci95_kg"]) << ','
             << hi(p["base"]["ci95_kg"]) << ',' << p["new"]["loading_kg"].get<double>() << ',' << lo(p["new"]["ci95_kg"]) << ','
             << hi(p["new"]["ci95_kg"]) << ',' << p["delta_kg"].get<double>() << ',' << lo(p["delta_ci95_kg"]) << ','
             << hi(p["delta_ci95_kg"]) << ',' << p["delta_rel"].get<double>() << ',' << driver << ',' << driverKg << ','
-            << p["interaction_kg"].get<double>() << ',' << (inBox ? "true" : "false") << '\n';
+            << p["interaction_kg"].get<double>() << ',' << (inBox ? "true" : "false") << ',' << (overfull ? "true" : "false") << '\n';
         if (!std::isnan(lastRpm) && rpm != lastRpm) dat << "\n\n";  // one gnuplot data block per speed
         lastRpm = rpm;
         dat << feed << ' ' << rpm << ' ' << p["base"]["loading_kg"].get<double>() << ' ' << lo(p["base"]["ci95_kg"]) << ' '

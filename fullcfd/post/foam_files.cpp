@@ -156,6 +156,17 @@ public:
     const std::string& text() const { return s_; }
     size_t pos() const { return pos_; }
 
+    // Whether a list ("N(", "N{", "List<T> N(") or a plain number follows the cursor.
+    bool listAhead() {
+        skipSpace();
+        size_t p = pos_;
+        if (s_.compare(p, 5, "List<") == 0) return true;
+        while (p < s_.size() && std::isdigit(static_cast<unsigned char>(s_[p]))) ++p;
+        if (p == pos_) return false;
+        while (p < s_.size() && std::isspace(static_cast<unsigned char>(s_[p]))) ++p;
+        return p < s_.size() && (s_[p] == '(' || s_[p] == '{');
+    }
+
 private:
     static std::string entry(const std::string& header, const std::string& key) {
         std::smatch m;
@@ -443,6 +454,24 @@ std::vector<MrfZone> readMrfZones(const fs::path& caseDir) {
         if (!omega) throw std::runtime_error(file.string() + ": omega of zone " + z.name + " is not a number");
         z.omega = *omega;
         out.push_back(z);
+    }
+    return out;
+}
+
+std::map<std::string, std::vector<double>> readFunctionObjectState(const fs::path& file, const std::string& object) {
+    FoamReader r(file);
+    r.seekKeyword(object);
+    r.expect('{');
+    std::map<std::string, std::vector<double>> out;
+    while (r.peek() != '}') {
+        const std::string key = r.word();
+        if (r.listAhead()) {
+            if (r.peek() == 'L') r.word();  // "List<scalar>"
+            out[key] = r.list<double, 1>();
+        } else {
+            out[key] = {r.number<double>()};
+        }
+        r.expect(';');
     }
     return out;
 }

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -76,5 +77,11 @@ struct MrfZone {
     double omega = 0;  // rad/s
 };
 std::vector<MrfZone> readMrfZones(const std::filesystem::path& caseDir);
+
+// The state a function object keeps at a written time (<time>/uniform/functionObjects/
+// functionObjectProperties): the entries of its sub-dictionary `object`, each a number (one
+// element) or a list of numbers. Anything else (words, nested dictionaries) is refused.
+std::map<std::string, std::vector<double>> readFunctionObjectState(const std::filesystem::path& file,
+                                                                   const std::string& object);
 
 }  // namespace mixload::post

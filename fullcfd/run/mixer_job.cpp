@@ -14,6 +14,7 @@
 #include "post/mixer_results.hpp"
 #include "post/run_profile.hpp"
 #include "run/foam_runner.hpp"
+#include "run/monitor_state.hpp"
 #include "run/run_dir.hpp"
 #include "store/snapshot_file.hpp"
 
@@ -153,6 +154,8 @@ nlohmann::json warmStartFromField(const scene::MixerScene& s, const fs::path& ca
         start["continues_run_dir"] = prov["continues_run_dir"];
         if (prov.contains("first_start")) start["first_start"] = nlohmann::json::parse(prov["first_start"].get<std::string>());
         writeFileAtomic(caseDir / "slices.json", prov.value("slices", std::string("[]")));
+        if (prov.contains("monitor"))
+            start["monitor_history_s"] = seedMonitorState(caseDir, nlohmann::json::parse(prov["monitor"].get<std::string>()));
     }
     return start;
 }

@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_harness.hpp"
+#include "post/foam_files.hpp"
 #include "common/atomic_file.hpp"
 #include "run/foam_runner.hpp"
 #include "run/run_dir.hpp"
@@ -541,6 +542,17 @@ TEST(CampaignCli, APointWhoseRunDirectoryIsLostResumesFromItsKeptProgress) {
     EXPECT_GE(res["slices"].get<int>(), 2);
     EXPECT_GT(res["wall_seconds"].get<double>(), res["slice_wall_seconds"].get<double>() + 4.0);
     EXPECT_TRUE(res["start"]["first_start"].contains("deposit_kg")) << "the lost run began at its deposit: " << res["start"].dump();
+    // The steady test's history came along: the new run's monitor began with the lost run's
+    // samples, shifted to end at its own time 0.
+    EXPECT_GT(res["start"].value("monitor_history_s", 0.0), 0.0) << res["start"].dump();
+    const auto seeded = mixload::post::readFunctionObjectState(
+        dir / "p" / "runs" / lost / "0" / "uniform" / "functionObjects" / "functionObjectProperties", "loading");
+    const auto& t = seeded.at("sampleTimes");
+    ASSERT_GE(t.size(), 3u);
+    EXPECT_LT(t.front(), -0.5);
+    EXPECT_LE(t.back(), 1e-9);
+    EXPECT_GT(t.back(), -0.5);
+    EXPECT_LE(seeded.at("sampleOutflows").back(), 1e-12);
     EXPECT_FALSE(fs::exists(dir / "p" / "progress.h5"));
     r = runMixload({"campaign", "export", "p", "-o", (dir / "p.csv").string(), "--dir", dir.string()});
     ASSERT_EQ(r.rc, 0) << r.err;

@@ -190,3 +190,37 @@ TEST(Snapshots, ExportOptionsAndBadInput) {
     for (const auto& e : fs::directory_iterator(dir))
         EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << e.path();
 }
+
+TEST(Snapshots, ProvenanceAbove64KiBRoundTrips) {
+    // A campaign's kept progress carries each stopped point's loading-monitor history (up to 1 000
+    // samples of three series): more than the 64 KiB an HDF5 attribute may hold in the default
+    // format's object header.
+    const mixload::store::SnapshotFile source(collapseRun() / "snapshots.h5");
+    const Eigen::MatrixXd alpha = source.column("alpha", 0);
+    std::string big;
+    for (int i = 0; i < 20000; ++i) big += std::to_string(0.1 * i) + ' ';
+    ASSERT_GT(big.size(), 100000u);
+    const fs::path file = scratchDir("snapshots-big-attr") / "big.h5";
+    mixload::store::writeDerivedSnapshots(source, {1.0}, {{"alpha", alpha}}, {{"kind", "test"}, {"monitor", big}}, file);
+    EXPECT_EQ(mixload::store::SnapshotFile(file).provenance().at("monitor").get<std::string>(), big);
+}
+
+TEST(Snapshots, FunctionObjectStateReadsNumbersAndLists) {
+    // As v1912 writes <time>/uniform/functionObjects/functionObjectProperties: short lists inline,
+    // long ones one value per line, equal ones as N{x}.
+    const fs::path file = scratchDir("fo-state") / "functionObjectProperties";
+    std::ofstream(file) << "FoamFile\n{\n    version 2.0;\n    format ascii;\n    class dictionary;\n"
+                           "    object functionObjectProperties;\n}\n// comment\n\n"
+                           "other\n{\n    fed 9;\n}\n"
+                           "loading\n{\n    fed             0.0036;\n    out 4e-3;\n"
+                           "    sampleTimes     3 ( 0.1 0.2 0.3 );\n"
+                           "    sampleLoadings  List<scalar> \n3\n(\n1\n2\n3\n)\n;\n"
+                           "    sampleOutflows  3{0};\n}\n";
+    const auto s = post::readFunctionObjectState(file, "loading");
+    EXPECT_EQ(s.at("fed"), std::vector<double>{0.0036});
+    EXPECT_EQ(s.at("out"), std::vector<double>{4e-3});
+    EXPECT_EQ(s.at("sampleTimes"), (std::vector<double>{0.1, 0.2, 0.3}));
+    EXPECT_EQ(s.at("sampleLoadings"), (std::vector<double>{1, 2, 3}));
+    EXPECT_EQ(s.at("sampleOutflows"), (std::vector<double>{0, 0, 0}));
+    EXPECT_THROW(post::readFunctionObjectState(file, "absent"), std::runtime_error);
+}

@@ -301,6 +301,23 @@ TEST(SurrogateCli, WhatifReportCoversTheOperatingMap) {
     while (std::getline(csv, line)) ++rows;
     EXPECT_EQ(rows, 6);
     EXPECT_TRUE(fs::exists(dir / "r" / "report.md"));
+    // A loading above a full barrel of the powder is marked in the table and the CSV, and said:
+    // the shipped model given a barrel of 10 cm3 (3 g of the base powder).
+    auto small = nlohmann::json::parse(mixload::readFile(std::string(MIXLOAD_DATA_DIR) + "/models/mixer-loading-kriging.json"));
+    small["provenance"]["full_barrel_m3"] = 1e-5;
+    mixload::writeFileAtomic(dir / "small.json", small.dump());
+    auto tiny = args;
+    tiny.pop_back();  // --json
+    tiny[tiny.size() - 1] = (dir / "tiny").string();
+    tiny.insert(tiny.end(), {"--model", (dir / "small.json").string()});
+    r = runMixload(tiny);
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_NE(r.err.find("exceeds a full barrel"), std::string::npos) << r.err;
+    const std::string tinyCsv = mixload::readFile(dir / "tiny" / "report.csv");
+    EXPECT_NE(tinyCsv.find(",above_full_barrel\n"), std::string::npos) << tinyCsv;
+    EXPECT_NE(tinyCsv.find(",true\n"), std::string::npos) << tinyCsv;
+    EXPECT_NE(mixload::readFile(dir / "tiny" / "report.md").find("above a full barrel: not valid"), std::string::npos);
+    EXPECT_EQ(mixload::readFile(dir / "r" / "report.csv").find(",true\n"), std::string::npos) << "no row of the shipped model is above a full barrel";
     args.back() = "--feeds";
     args.push_back("10,-5");
     args[args.size() - 3] = (dir / "bad").string();
