@@ -552,7 +552,7 @@ TEST(CampaignCli, APointWhoseRunDirectoryIsLostResumesFromItsKeptProgress) {
     EXPECT_LT(t.front(), -0.5);
     EXPECT_LE(t.back(), 1e-9);
     EXPECT_GT(t.back(), -0.5);
-    EXPECT_LE(seeded.at("sampleOutflows").back(), 1e-12);
+    EXPECT_LE(seeded.at("sampleOutflows").back(), 1e-9);  // the samples are written to 10 digits
     EXPECT_FALSE(fs::exists(dir / "p" / "progress.h5"));
     r = runMixload({"campaign", "export", "p", "-o", (dir / "p.csv").string(), "--dir", dir.string()});
     ASSERT_EQ(r.rc, 0) << r.err;
