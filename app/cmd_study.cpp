@@ -7,6 +7,8 @@
 #include "app/commands.hpp"
 #include "app/mixer_options.hpp"
 #include "common/atomic_file.hpp"
+#include "common/process.hpp"
+#include "common/clock.hpp"
 #include "common/input_error.hpp"
 #include "studies/collapse_study.hpp"
 #include "studies/fidelity_pilot.hpp"
@@ -49,6 +51,7 @@ struct MixerStudyCmd {
     int np = 1;
     bool smFromMrf = false;
     bool smDownFeeds = false;
+    double maxHours = 0;
     bool json = false;
 };
 struct FormulationCmd {
@@ -133,6 +136,10 @@ void addStudy(CLI::App& app, Action& action) {
     mx->add_flag("--sm-down-feeds", mo->smDownFeeds,
                  "With --sm-from-mrf: only each speed's highest feed starts sm from MRF; each lower feed "
                  "continues the sm run at the next higher feed, at its time and mesh angle");
+    mx->add_option("--max-hours", mo->maxHours,
+                   "Stop cleanly after this many hours (0: no limit): unfinished runs keep what they ran and the same "
+                   "command resumes them; SIGTERM or Ctrl-C stops the same way")
+        ->capture_default_str();
     mx->add_flag("--json", mo->json, "Print JSON");
     mx->callback([&action, mo] {
         action = [mo] {
@@ -177,10 +184,15 @@ void addStudy(CLI::App& app, Action& action) {
                 throw InputError("sm-down-feeds", "set", "used together with --sm-from-mrf");
             st.smFromMrf = mo->smFromMrf;
             st.smDownFeeds = mo->smDownFeeds;
+            requireRange("max-hours", mo->maxHours, 0, 1e5);
+            st.deadline = deadlineAfterHours(mo->maxHours);
+            stopOnSignals();
             const auto r = experiments::runMixerStudy(st);
             if (mo->json) std::cout << r.dump(2) << '\n';
             else std::cout << readFile(r["table_md"].get<std::string>()) << "plot: " << r["plot"].get<std::string>()
                            << "\nM(t) of every run: " << r["histories_plot"].get<std::string>() << '\n';
+            if (r["unfinished"].get<size_t>() > 0 && !mo->json)
+                std::cout << r["unfinished"].get<size_t>() << " of the runs are not finished; the same command resumes them\n";
             for (const auto& row : r["rows"])
                 if (row.contains("error")) return 1;
             return 0;

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "common/atomic_file.hpp"
+#include "common/process.hpp"
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
 #include "run/foam_runner.hpp"
@@ -104,7 +105,8 @@ std::string plotHistories(const fs::path& out, const nlohmann::json& rows,
 
 std::vector<nlohmann::json> runMixerScenes(const std::vector<scene::MixerScene>& scenes, const fs::path& runs,
                                            int jobs, int np, bool progress, const std::string& label,
-                                           const std::vector<fs::path>& warmFrom) {
+                                           const std::vector<fs::path>& warmFrom,
+                                           std::optional<std::chrono::steady_clock::time_point> deadline) {
     if (!warmFrom.empty() && warmFrom.size() != scenes.size())
         throw std::logic_error("runMixerScenes: one warm start per scene, or none");
     std::vector<std::string> suffix(scenes.size());
@@ -127,8 +129,13 @@ std::vector<nlohmann::json> runMixerScenes(const std::vector<scene::MixerScene>&
             job.np = np;
             job.out = runs / (scenes[i].hash() + suffix[i]);
             if (!warmFrom.empty()) job.warmFrom = warmFrom[i];
+            job.deadline = deadline;
+            if ((deadline && std::chrono::steady_clock::now() >= *deadline) || stopRequested())
+                return nlohmann::json{{"stopped", "not started: the study's time was up"}};
             try {
                 return run::runMixer(job);
+            } catch (const DeadlineReached&) {
+                return nlohmann::json{{"stopped", "stopped at the study's deadline; it resumes from its last written time"}};
             } catch (const run::RunError& e) {
                 return nlohmann::json{{"error", e.what()}};
             }
@@ -137,7 +144,7 @@ std::vector<nlohmann::json> runMixerScenes(const std::vector<scene::MixerScene>&
             for (const char* k : {"loading_kg", "loading_std_kg", "steady", "steady_time_s", "outflow_kg_h",
                                   "powder_leak_kg_h", "powder_balance_ok", "rotor_zone_loading_kg",
                                   "dense_loading_kg", "warning", "end_time_s", "cells", "wall_seconds",
-                                  "core_seconds", "error", "run_dir", "history"})
+                                  "core_seconds", "error", "stopped", "run_dir", "history"})
                 if (r.contains(k)) out[i][k] = r[k];
         });
     return out;
@@ -175,7 +182,8 @@ std::vector<nlohmann::json> runSmFromMrf(const MixerStudy& study, const fs::path
         return s;
     };
     std::vector<nlohmann::json> results(scenes.size());
-    const auto mrf = runMixerScenes(pick(first), runs, study.jobs, study.np, study.progress, "mixer study (mrf)");
+    const auto mrf = runMixerScenes(pick(first), runs, study.jobs, study.np, study.progress, "mixer study (mrf)", {},
+                                    study.deadline);
     for (size_t k = 0; k < first.size(); ++k) results[first[k]] = mrf[k];
     // With --sm-down-feeds the sm points that differ only in feed form a chain, highest feed first:
     // that one starts from its MRF twin, each next one continues the sm run above it (same mesh and
@@ -199,16 +207,20 @@ std::vector<nlohmann::json> runSmFromMrf(const MixerStudy& study, const fs::path
             if (w >= chain.size()) continue;
             const size_t i = chain[w];
             const auto& src = results[w == 0 ? twin[i] : chain[w - 1]];
-            if (src.contains("run_dir") && !src.contains("error")) {
+            if (src.contains("run_dir") && !src.contains("error") && !src.contains("stopped")) {
                 startable.push_back(i);
                 from.push_back(src["run_dir"].get<std::string>());
+            } else if (src.contains("stopped")) {
+                results[i] = {{"stopped", w == 0 ? "waits for the MRF run at this point (not finished)"
+                                                 : "waits for the sm run at the next higher feed (not finished)"}};
             } else {
                 results[i] = {{"error", w == 0 ? "no MRF run at this point to start from (it failed)"
                                                : "no sm run at the next higher feed to continue (it failed)"}};
             }
         }
         const auto sm = runMixerScenes(pick(startable), runs, study.jobs, study.np, study.progress,
-                                       w == 0 ? "mixer study (sm from mrf)" : "mixer study (sm, lower feeds)", from);
+                                       w == 0 ? "mixer study (sm from mrf)" : "mixer study (sm, lower feeds)", from,
+                                       study.deadline);
         for (size_t k = 0; k < startable.size(); ++k) {
             results[startable[k]] = sm[k];
             results[startable[k]]["start"] = w == 0 ? "mrf" : "sm";
@@ -235,7 +247,7 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
 
     const auto results = study.smFromMrf ? runSmFromMrf(study, runs)
                                          : runMixerScenes(study.scenes, runs, study.jobs, study.np, study.progress,
-                                                          "mixer study");
+                                                          "mixer study", {}, study.deadline);
     for (size_t i = 0; i < results.size(); ++i) {
         for (auto it = results[i].begin(); it != results[i].end(); ++it)
             if (it.key() != "history") rows[i][it.key()] = it.value();
@@ -252,8 +264,9 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
     for (const auto& r : rows) {
         const std::string head = r["method"].get<std::string>() + " | " + r["mesh"].get<std::string>();
         if (!r.contains("loading_kg")) {
-            md << "| " << head << " | | " << r["rpm"] << " | " << r["feed_kg_h"] << " | "
-               << r["initial_loading_kg"] << " | failed: see run dir |||||||||\n";
+            md << "| " << head << " | | " << r["rpm"] << " | " << r["feed_kg_h"] << " | " << r["initial_loading_kg"]
+               << " | " << (r.contains("stopped") ? "not finished: " + r["stopped"].get<std::string>() : std::string("failed: see run dir"))
+               << " |||||||||\n";
             continue;
         }
         const bool steady = r["steady"].get<bool>();
@@ -297,6 +310,10 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
                              {"histories_plot", hwarn.empty() ? (study.out / "histories.png").string() : ""}};
     if (!warn.empty()) result["plot_warning"] = warn;
     if (!hwarn.empty()) result["histories_plot_warning"] = hwarn;
+    size_t unfinished = 0;
+    for (const auto& r : rows) unfinished += r.contains("stopped");
+    result["unfinished"] = unfinished;
+    result["stopped_at_max_hours"] = unfinished > 0;
     // A study with both mrf and sm at the same points also writes the paper's comparison.
     if (const auto pairs = compareMethods(rows); !pairs.empty()) {
         const std::string mwarn = writeMethodsComparison(study.out, pairs);

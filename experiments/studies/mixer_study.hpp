@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
+#include <chrono>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +30,9 @@ struct MixerStudy {
     // continues the sm run at the next higher one, at its time and angle (a bed drains faster than
     // a low feed fills one).
     bool smDownFeeds = false;
+    // --max-hours: runs still going here stop, keeping what they ran; the next call of the same
+    // study resumes them in their directories (rows {"stopped": why}, not errors).
+    std::optional<std::chrono::steady_clock::time_point> deadline;
 };
 
 // Runs (or resumes, or reuses) each scene in <runs>/<scene hash> on `jobs` threads and returns what
@@ -35,10 +40,13 @@ struct MixerStudy {
 // {"error": ...} for a run that failed. warmFrom is empty (every run from its deposit) or holds one
 // entry per scene: a run directory whose latest fields start that run (empty entry: the deposit),
 // in <runs>/<scene hash>-warm-<source tag>, so that cold and warm runs never share a directory.
+// A run that the deadline (or SIGTERM under stopOnSignals) stops, or that it keeps from starting,
+// gives {"stopped": why}.
 std::vector<nlohmann::json> runMixerScenes(const std::vector<scene::MixerScene>& scenes,
                                            const std::filesystem::path& runs, int jobs, int np, bool progress,
                                            const std::string& label,
-                                           const std::vector<std::filesystem::path>& warmFrom = {});
+                                           const std::vector<std::filesystem::path>& warmFrom = {},
+                                           std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt);
 
 // Runs the study and writes <out>/table.csv, <out>/table.md and <out>/study.png (M against feed
 // and against rpm). Returns the rows.

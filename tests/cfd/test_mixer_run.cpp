@@ -212,6 +212,36 @@ TEST(MixerRun, SmTurnsAt500Rpm) {
     EXPECT_LT(r["max_powder_speed_m_s"].get<double>(), 20.0) << r.dump();
 }
 
+TEST(MixerRun, StudyStopsAtMaxHoursAndTheSameCommandResumes) {
+    // study mixer --max-hours: the comparison's sliding-mesh points run for hours, in slices. A run
+    // the deadline stops is "not finished" (not failed, exit 0), the sm run waiting for its MRF start
+    // says so, and the same command finishes both.
+    const fs::path out = scratchDir("study-max-hours");
+    std::vector<std::string> args{"study", "mixer", "--scene", "gcm250-v2", "--cell-size", "0.02", "--methods", "mrf", "sm",
+                                  "--rpms", "162", "--feeds", "45", "--end-time", "0.1", "--sm-from-mrf", "--out",
+                                  out.string(), "--json"};
+    auto sliced = args;
+    sliced.insert(sliced.end(), {"--max-hours", "0.0001"});
+    auto res = runMixload(sliced);
+    ASSERT_EQ(res.rc, 0) << res.err;
+    auto j = nlohmann::json::parse(res.out);
+    EXPECT_EQ(j["unfinished"], 2) << res.out;
+    EXPECT_TRUE(j["stopped_at_max_hours"].get<bool>());
+    for (const auto& r : j["rows"]) {
+        EXPECT_FALSE(r.contains("error")) << r.dump();
+        EXPECT_FALSE(r.contains("loading_kg")) << r.dump();
+    }
+    EXPECT_NE(mixload::readFile(out / "table.md").find("not finished: waits for the MRF run"), std::string::npos) << mixload::readFile(out / "table.md");
+    res = runMixload(args);
+    ASSERT_EQ(res.rc, 0) << res.err;
+    j = nlohmann::json::parse(res.out);
+    EXPECT_EQ(j["unfinished"], 0) << res.out;
+    for (const auto& r : j["rows"]) EXPECT_TRUE(r.contains("loading_kg")) << r.dump();
+    EXPECT_EQ(mixload::readFile(out / "table.md").find("not finished"), std::string::npos);
+    args.insert(args.end(), {"--max-hours", "-1"});
+    EXPECT_EQ(runMixload(args).rc, 2);
+}
+
 TEST(MixerRun, StudySmStartsFromTheMrfRunAtItsPoint) {
     // study mixer --sm-from-mrf: the MRF run goes first, and the sliding mesh starts from its latest
     // fields (mapped cell by cell: the two meshes' patches differ) with the same powder in it.
