@@ -39,8 +39,7 @@ nlohmann::json keptMonitorState(const fs::path& timeDir, std::size_t maxSamples)
     const auto &t = get("sampleTimes"), &m = get("sampleLoadings"), &c = get("sampleOutflows");
     if (m.size() != t.size() || c.size() != t.size() || get("fed").size() != 1 || get("out").size() != 1)
         throw std::runtime_error(file.string() + ": the loading monitor's samples differ in length");
-    const std::size_t stride = maxSamples == 0 ? t.size() + 1 : (t.size() + maxSamples - 1) / maxSamples;
-    const std::size_t step = std::max<std::size_t>(1, stride);
+    const std::size_t step = std::max<std::size_t>(1, (t.size() + maxSamples - 1) / std::max<std::size_t>(1, maxSamples));
     return {{"time_s", std::stod(timeDir.filename().string())},
             {"fed_kg", get("fed")[0]},
             {"out_kg", get("out")[0]},
