@@ -2,6 +2,7 @@
 // `mixload campaign`: parses, calls experiments/campaign, prints.
 
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 
 #include "app/commands.hpp"
@@ -53,7 +54,9 @@ int printExtended(const CampaignCmd& o) {
 }
 
 int printStatus(const CampaignCmd& o) {
-    const auto j = experiments::campaignStatus(o.spec.place);
+    std::vector<experiments::CampaignPlace> with;
+    for (const auto& n : o.warmFrom) with.push_back({n, o.spec.place.dir});
+    const auto j = experiments::campaignStatus(o.spec.place, with);
     if (o.json) {
         std::cout << j.dump(2) << '\n';
         return 0;
@@ -65,10 +68,29 @@ int printStatus(const CampaignCmd& o) {
               << j["core_seconds_done"].get<double>() << " core-seconds so far\n";
     for (const auto& u : j["unfinished"]) {
         std::cout << "  point " << u["index"] << " (" << u["status"].get<std::string>() << "): " << u["time_s"].get<double>()
-                  << " s of flow, M " << u["loading_kg"].get<double>() << " kg (" << u["loading_10s_before_kg"].get<double>()
+                  << " s of flow";
+        if (u["flow_before_s"].get<double>() > 0)
+            std::cout << " (" << u["time_s"].get<double>() + u["flow_before_s"].get<double>() << " s on the point)";
+        std::cout << ", M " << u["loading_kg"].get<double>() << " kg (" << u["loading_10s_before_kg"].get<double>()
                   << " kg 10 s before), outflow " << u["outflow_kg_h"].get<double>() << " kg/h";
         if (u["feed_kg_h"].is_number()) std::cout << " against " << u["feed_kg_h"].get<double>() << " kg/h fed";
         std::cout << '\n';
+    }
+    if (const auto& f = j.value("forecast", nlohmann::json()); f.is_object()) {
+        std::printf("forecast (an estimate, %s): about %.1f core-hours left (90%%: %.1f-%.1f) for %zu points\n",
+                    f["method"].get<std::string>().c_str(), f["core_hours_left"].get<double>(),
+                    f["core_hours_left_90"][0].get<double>(), f["core_hours_left_90"][1].get<double>(), f["points"].size());
+        std::printf("  flow to a verdict %.0f s + %.2f residence times (median error %.0f%% on the %d runs fitted), "
+                    "%.0f core-s per second of flow\n",
+                    f["flow_fit"]["intercept_s"].get<double>(), f["flow_fit"]["per_residence_time"].get<double>(),
+                    100 * f["flow_fit"]["median_abs_error"].get<double>(), f["flow_fit"]["runs"].get<int>(),
+                    f["core_seconds_per_flow_second"].get<double>());
+        for (const auto& p : f["points"])
+            std::printf("  point %d%s: M ~ %.3g kg, %.0f of %.0f s of flow run, %.1f core-hours left (90%%: %.1f-%.1f)\n",
+                        p["index"].get<int>(), p["replicate"].get<bool>() ? " (replicate)" : "",
+                        p["predicted_loading_kg"].get<double>(), p["flow_done_s"].get<double>(),
+                        p["flow_to_verdict_s"].get<double>(), p["core_hours_left"].get<double>(),
+                        p["core_hours_left_90"][0].get<double>(), p["core_hours_left_90"][1].get<double>());
     }
     if (n["running"].get<int>() > 0 && j["driver_running"] == false)
         std::cout << "no driver is running: the " << n["running"]
@@ -262,9 +284,12 @@ void addCampaign(CLI::App& app, Action& action) {
         };
     });
 
-    auto* st = camp->add_subcommand("status", "Counts of queued, running, done and failed runs");
+    auto* st = camp->add_subcommand("status", "Counts of queued, running, done and failed runs; where unfinished mixer points stand; a forecast of the core-hours left (mixer, from five steady runs)");
     st->add_option("name", o->spec.place.name, "Campaign name")->required();
     st->add_option("--dir", o->spec.place.dir, "Where campaigns live")->capture_default_str();
+    st->add_option("--with-campaign", o->warmFrom,
+                   "Mixer: the finished runs of this campaign (same base scene and mesh; repeatable) join the forecast's fits, "
+                   "e.g. a hold-out campaign forecast from its training campaign");
     st->add_flag("--json", o->json, "Print JSON");
     st->callback([&action, o] { action = [o] { return printStatus(*o); }; });
 

@@ -15,6 +15,7 @@
 
 #include "campaign/design_space.hpp"
 #include "campaign/driver_lock.hpp"
+#include "campaign/forecast.hpp"
 #include "campaign/progress.hpp"
 #include "campaign/retry.hpp"
 #include "campaign/warm_start.hpp"
@@ -418,7 +419,7 @@ nlohmann::json campaignNoise(const CampaignPlace& o) {
     return out;
 }
 
-nlohmann::json campaignStatus(const CampaignPlace& o) {
+nlohmann::json campaignStatus(const CampaignPlace& o, const std::vector<CampaignPlace>& with) {
     std::unique_ptr<store::Ledger> l;
     const auto c = openCampaign(o, l);
     const auto runs = l->runs(o.name);
@@ -440,6 +441,9 @@ nlohmann::json campaignStatus(const CampaignPlace& o) {
     // Where each unfinished mixer point stands in its run directory: a low-feed bed runs for hours,
     // and its loading and outflow against the feed say how far it is from steady.
     nlohmann::json unfinished = nlohmann::json::array();
+    // Flow run on each point: its directory's, with the kept progress it continues; a point whose
+    // directory is gone has its kept progress alone.
+    std::map<int, double> flowDone = c.scene == "mixer" ? keptProgressFlow(o.home()) : std::map<int, double>{};
     if (c.scene == "mixer" && fs::is_directory(o.home() / "runs"))
         for (const auto& r : runs) {
             if (r.status == "done" || r.status == "failed") continue;
@@ -456,8 +460,10 @@ nlohmann::json campaignStatus(const CampaignPlace& o) {
                     auto before = history.begin();
                     while (std::next(before) != history.end() && std::next(before)->t <= last.t - 10.0) ++before;
                     const double span = last.t - before->t;
+                    const double flowBefore = flowBeforeRun(e.path());
+                    flowDone[r.index] = flowBefore + last.t;
                     unfinished.push_back({{"index", r.index}, {"status", r.status}, {"run_dir", e.path().string()},
-                                          {"time_s", last.t}, {"loading_kg", last.loading},
+                                          {"time_s", last.t}, {"flow_before_s", flowBefore}, {"loading_kg", last.loading},
                                           {"loading_10s_before_kg", before->loading},
                                           {"outflow_kg_h", span > 0 ? (last.out - before->out) / span * 3600.0 : last.outflow * 3600.0},
                                           {"feed_kg_h", r.params.value("feed_kg_h", nlohmann::json())}});
@@ -467,6 +473,12 @@ nlohmann::json campaignStatus(const CampaignPlace& o) {
             }
         }
     out["unfinished"] = unfinished;
+    if (c.scene == "mixer") {
+        const auto pool = warmPool(c, with);
+        out["forecast"] = forecastCampaign(c, runs, rangesOf(c, o.name), pool, flowDone);
+        out["forecast_with"] = nlohmann::json::array();
+        for (const auto& p : with) out["forecast_with"].push_back(p.name);
+    }
     return out;
 }
 

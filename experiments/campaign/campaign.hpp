@@ -69,7 +69,9 @@ nlohmann::json replicateCampaign(const CampaignPlace& place, int n, double depos
 // The finished replicate pairs, their relative differences, and one run's scatter estimated from
 // them: sqrt(mean(rel^2) / 2) (null without a pair); what `surrogate fit --noise` takes.
 nlohmann::json campaignNoise(const CampaignPlace& place);
-nlohmann::json campaignStatus(const CampaignPlace& place);
+// Counts, where each unfinished mixer point stands, and a forecast of the core-hours left
+// (campaign/forecast), fitted on the campaign's finished runs and those of `with` (same base scene).
+nlohmann::json campaignStatus(const CampaignPlace& place, const std::vector<CampaignPlace>& with = {});
 nlohmann::json exportCampaignCsv(const CampaignPlace& place, const std::filesystem::path& csv);
 // Runs queued points, jobs at a time, until none is left or maxHours; counts in the summary.
 nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions& options);

@@ -93,6 +93,17 @@ nlohmann::json firstStart(const fs::path& runDir) {
     return {{"deposit_kg", scene.at("scene").value("initial_loading_kg", 0.0)}};
 }
 
+}  // namespace
+
+double flowBeforeRun(const fs::path& runDir) {
+    if (!fs::exists(runDir / "start.json")) return 0;
+    const auto start = nlohmann::json::parse(readFile(runDir / "start.json"));
+    if (!start.contains("continues_run_dir")) return 0;
+    return start.value("flow_before_s", start.value("source_time_s", 0.0));
+}
+
+namespace {
+
 // Removes a file (and its XDMF) when the scope ends, however it ends.
 struct RemoveOnExit {
     fs::path file;
@@ -131,6 +142,7 @@ nlohmann::json keepPointProgress(const fs::path& home, int index, const fs::path
     const nlohmann::json record{{"index", index},
                                 {"run_dir", runDir.filename().string()},
                                 {"time_s", latest.times().back()},
+                                {"flow_s", latest.times().back() + flowBeforeRun(runDir)},
                                 {"wall_seconds", wall},
                                 {"core_seconds", core},
                                 {"slices", slices},
@@ -144,6 +156,13 @@ nlohmann::json keepPointProgress(const fs::path& home, int index, const fs::path
     o.velocities.push_back(latest.column("U", last));
     writeProgress(home, &latest, o.records, o.alphas, o.velocities);
     return {{"index", index}, {"time_s", record["time_s"]}, {"core_seconds", core}};
+}
+
+std::map<int, double> keptProgressFlow(const fs::path& home) {
+    std::map<int, double> flow;
+    for (const auto& r : readProgress(home).records)
+        flow[r.at("index").get<int>()] = r.value("flow_s", r.at("time_s").get<double>());
+    return flow;
 }
 
 void dropFinishedProgress(const fs::path& home, int index) {
@@ -166,7 +185,8 @@ fs::path progressStart(const fs::path& home, int index, const fs::path& runDir) 
         nlohmann::json prov{{"kind", "campaign progress"},
                             {"continues_run_dir", r.value("run_dir", "")},
                             {"first_start", r.value("first_start", nlohmann::json()).dump()},
-                            {"slices", r.at("slices").dump()}};
+                            {"slices", r.at("slices").dump()},
+                            {"flow_before_s", r.value("flow_s", r.at("time_s")).dump()}};
         if (r.contains("monitor") && !r["monitor"].is_null()) prov["monitor"] = r["monitor"].dump();
         store::writeDerivedSnapshots(*kept.file, {r.at("time_s").get<double>()},
                                      {{"alpha", kept.file->column("alpha", i)}, {"U", kept.file->column("U", i)}},

@@ -6,6 +6,7 @@
 // in <home>/progress.h5, landed with the ledger; a point whose directory is gone starts from them.
 #pragma once
 #include <filesystem>
+#include <map>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -16,6 +17,14 @@ namespace mixload::experiments {
 // `runDir` of design point `index` in <home>/progress.h5, rewritten whole and atomically. Returns
 // {index, time_s, core_seconds}, or null when the directory has no written time to keep yet.
 nlohmann::json keepPointProgress(const std::filesystem::path& home, int index, const std::filesystem::path& runDir);
+
+// The flow [s] the point had run before the run in `runDir` began, when that run continues the
+// point's kept progress (start.json: flow_before_s, or for progress kept before that key, the kept
+// time); 0 for a run that began the point.
+double flowBeforeRun(const std::filesystem::path& runDir);
+
+// The flow [s] each point kept in <home>/progress.h5 had run, by design index.
+std::map<int, double> keptProgressFlow(const std::filesystem::path& home);
 
 // Drops the entries of points that have their own result now (the file goes when none is left).
 void dropFinishedProgress(const std::filesystem::path& home, int index);

@@ -154,6 +154,7 @@ nlohmann::json warmStartFromField(const scene::MixerScene& s, const fs::path& ca
         start["continues_run_dir"] = prov["continues_run_dir"];
         if (prov.contains("first_start")) start["first_start"] = nlohmann::json::parse(prov["first_start"].get<std::string>());
         writeFileAtomic(caseDir / "slices.json", prov.value("slices", std::string("[]")));
+        if (prov.contains("flow_before_s")) start["flow_before_s"] = std::stod(prov["flow_before_s"].get<std::string>());
         if (prov.contains("monitor"))
             start["monitor_history_s"] = seedMonitorState(caseDir, nlohmann::json::parse(prov["monitor"].get<std::string>()));
     }

@@ -538,6 +538,10 @@ TEST(CampaignCli, APointWhoseRunDirectoryIsLostResumesFromItsKeptProgress) {
     const auto res = nlohmann::json::parse(readFile(dir / "p" / "runs" / lost / "result.json"));
     EXPECT_EQ(res["start"].value("continues_run_dir", ""), lost) << res["start"].dump();
     EXPECT_GT(res["start"].value("source_time_s", 0.0), 0.0) << res["start"].dump();
+    // The flow run on the point before (what `campaign status` and its forecast count): the lost
+    // run began the point, so it is the kept time.
+    EXPECT_NEAR(res["start"].value("flow_before_s", -1.0), res["start"]["source_time_s"].get<double>(), 1e-9)
+        << res["start"].dump();
     EXPECT_TRUE(res["start"].value("velocity", false)) << res["start"].dump();
     EXPECT_GE(res["slices"].get<int>(), 2);
     EXPECT_GT(res["wall_seconds"].get<double>(), res["slice_wall_seconds"].get<double>() + 4.0);
