@@ -6,17 +6,13 @@
 
 #include "campaign/campaign.hpp"
 #include "campaign/design_space.hpp"
+#include "campaign/progress.hpp"
+#include "common/stats.hpp"
 #include "doe/adaptive.hpp"
 
 namespace mixload::experiments {
 
 namespace {
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 // t = a + b x by least squares with a, b >= 0: a negative intercept or slope would forecast a
 // negative flow for some point, so the fit falls back to the line through the origin or the mean.
@@ -52,8 +48,11 @@ nlohmann::json forecastCampaign(const store::CampaignInfo& c, const std::vector<
             units.push_back(unitOf(space, *r));
             logM.push_back(std::log(*m));
         }
-        const double t = r->result.value("steady_time_s", 0.0);
-        if (!(t > 0)) continue;
+        // On the point: a run that continues kept progress has its verdict's time counted from its
+        // own start, and its core-seconds from the point's first slice.
+        const double inRun = r->result.value("steady_time_s", 0.0);
+        if (!(inRun > 0)) continue;
+        const double t = inRun + flowBefore(r->result.value("start", nlohmann::json()));
         residence.push_back(*m / feedOf(*r) * 3600.0);
         flow.push_back(t);
         if (r->coreSeconds && *r->coreSeconds > 0) coreRate.push_back(*r->coreSeconds / t);

@@ -95,11 +95,14 @@ nlohmann::json firstStart(const fs::path& runDir) {
 
 }  // namespace
 
+double flowBefore(const nlohmann::json& start) {
+    if (!start.is_object() || !start.contains("continues_run_dir")) return 0;
+    return start.value("flow_before_s", start.value("source_time_s", 0.0));
+}
+
 double flowBeforeRun(const fs::path& runDir) {
     if (!fs::exists(runDir / "start.json")) return 0;
-    const auto start = nlohmann::json::parse(readFile(runDir / "start.json"));
-    if (!start.contains("continues_run_dir")) return 0;
-    return start.value("flow_before_s", start.value("source_time_s", 0.0));
+    return flowBefore(nlohmann::json::parse(readFile(runDir / "start.json")));
 }
 
 namespace {

@@ -18,9 +18,10 @@ namespace mixload::experiments {
 // {index, time_s, core_seconds}, or null when the directory has no written time to keep yet.
 nlohmann::json keepPointProgress(const std::filesystem::path& home, int index, const std::filesystem::path& runDir);
 
-// The flow [s] the point had run before the run in `runDir` began, when that run continues the
-// point's kept progress (start.json: flow_before_s, or for progress kept before that key, the kept
-// time); 0 for a run that began the point.
+// The flow [s] the point had run before a run began, from the run's start record (start.json, or
+// `start` in its result) when that run continues the point's kept progress: flow_before_s, or for
+// progress kept before that key, the kept time; 0 for a run that began the point.
+double flowBefore(const nlohmann::json& start);
 double flowBeforeRun(const std::filesystem::path& runDir);
 
 // The flow [s] each point kept in <home>/progress.h5 had run, by design index.
