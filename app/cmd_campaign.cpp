@@ -80,9 +80,10 @@ int printStatus(const CampaignCmd& o) {
         std::printf("forecast (an estimate, %s): about %.1f core-hours left (90%%: %.1f-%.1f) for %zu points\n",
                     f["method"].get<std::string>().c_str(), f["core_hours_left"].get<double>(),
                     f["core_hours_left_90"][0].get<double>(), f["core_hours_left_90"][1].get<double>(), f["points"].size());
-        std::printf("  flow to a verdict %.0f s + %.2f residence times (median error %.0f%% on the %d runs fitted), "
+        std::printf("  flow to a verdict %.0f s + %.2f residence times, at least %.0f s (median error %.0f%% on the %d runs fitted), "
                     "%.0f core-s per second of flow\n",
                     f["flow_fit"]["intercept_s"].get<double>(), f["flow_fit"]["per_residence_time"].get<double>(),
+                    f["flow_fit"]["floor_s"].get<double>(),
                     100 * f["flow_fit"]["median_abs_error"].get<double>(), f["flow_fit"]["runs"].get<int>(),
                     f["core_seconds_per_flow_second"].get<double>());
         for (const auto& p : f["points"])

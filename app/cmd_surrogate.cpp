@@ -318,8 +318,12 @@ int runCheck(const std::string& modelPath, const std::string& campaign, const st
         };
         std::cout << "check of " << modelPath << " against " << runs.rows.size() << " full runs\n  hold-out ("
                   << r["n_holdout"] << " runs): mean " << pct(r["mean_rel_error"]) << ci(r["mean_rel_error_ci90"]) << ", max "
-                  << pct(r["max_rel_error"]) << " relative error, 95% interval coverage " << pct(r["coverage95"])
-                  << "\n  leave-one-out (" << r["loo"]["n"] << " training runs): mean " << pct(r["loo"]["mean_rel_error"])
+                  << pct(r["max_rel_error"]) << " relative error, 95% interval coverage " << pct(r["coverage95"]);
+        if (const auto& b = r["holdout_in_box"]; b["n"] != r["n_holdout"])
+            std::cout << "\n    of which inside the training box (" << b["n"] << " runs): mean " << pct(b["mean_rel_error"])
+                      << ci(b["mean_rel_error_ci90"]) << ", max " << pct(b["max_rel_error"]) << ", coverage "
+                      << pct(b["coverage95"]);
+        std::cout << "\n  leave-one-out (" << r["loo"]["n"] << " training runs): mean " << pct(r["loo"]["mean_rel_error"])
                   << ci(r["loo"]["mean_rel_error_ci90"]) << ", max " << pct(r["loo"]["max_rel_error"]) << ", coverage "
                   << pct(r["loo"]["coverage95"]) << '\n';
         if (!r["label_noise"].is_null())

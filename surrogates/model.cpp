@@ -146,9 +146,15 @@ Surrogate Surrogate::fit(const std::vector<Row>& train, const FitOptions& o, nlo
             }
             const auto& rs = *s.rsm_;
             s.tQuantile_ = rs.dof() > 0 ? gsl_cdf_tdist_Pinv(0.975, rs.dof()) : kNaN;
-            for (Eigen::Index i = 0; i < n; ++i) {
-                looPred(i) = y(i) - rs.looResiduals()(i);
-                looVar(i) = rs.residualVariance() / std::max(1 - rs.leverages()(i), 1e-12);
+            if (o.select) {
+                const auto loo = ResponseSurface::selectedLoo(Z, y);
+                looPred = y - loo.residuals;
+                looVar = loo.variances;
+            } else {
+                for (Eigen::Index i = 0; i < n; ++i) {
+                    looPred(i) = y(i) - rs.looResiduals()(i);
+                    looVar(i) = rs.residualVariance() / std::max(1 - rs.leverages()(i), 1e-12);
+                }
             }
         } else {
             auto ko = o.kriging;
@@ -178,7 +184,9 @@ Surrogate Surrogate::fit(const std::vector<Row>& train, const FitOptions& o, nlo
         }
         const double meanErr = stats.mean().get<double>();
         tried.push_back({{"transform", tf.describe()}, {"loo_mean_rel_error", meanErr}});
-        s.validation_ = {{"method", "leave-one-out (closed form, hyperparameters and terms fixed)"},
+        s.validation_ = {{"method", o.kind == "rsm" && o.select
+                                        ? "leave-one-out (terms selected anew without each run)"
+                                        : "leave-one-out (closed form, hyperparameters and terms fixed)"},
                          {"n", n},
                          {"mean_rel_error", meanErr},
                          {"max_rel_error", stats.maxJson()},

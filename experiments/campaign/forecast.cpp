@@ -59,8 +59,12 @@ nlohmann::json forecastCampaign(const store::CampaignInfo& c, const std::vector<
     }
     if (units.size() < 5 || flow.size() < 5 || coreRate.empty()) return nullptr;
     const auto [a, b] = nonNegativeLine(residence, flow);
+    // The line has no floor where the residence time is short, but every run pays for its windows
+    // and for leaving its start: no point is forecast faster than the fastest verdict seen.
+    const double fastest = *std::min_element(flow.begin(), flow.end());
+    const auto flowToVerdict = [&](double tau) { return std::max(a + b * tau, fastest); };
     std::vector<double> fitError;
-    for (size_t i = 0; i < flow.size(); ++i) fitError.push_back(std::abs(a + b * residence[i] - flow[i]) / flow[i]);
+    for (size_t i = 0; i < flow.size(); ++i) fitError.push_back(std::abs(flowToVerdict(residence[i]) - flow[i]) / flow[i]);
     const double rate = median(coreRate);
 
     nlohmann::json points = nlohmann::json::array();
@@ -76,7 +80,7 @@ nlohmann::json forecastCampaign(const store::CampaignInfo& c, const std::vector<
         // 90% of the model's predictive spread of log M; the cost follows M monotonically.
         const auto coreHours = [&](double logLoading) {
             const double tau = std::exp(logLoading) / feed * 3600.0;
-            return std::max(a + b * tau - done, 0.5 * tau) * rate / 3600.0;
+            return std::max(flowToVerdict(tau) - done, 0.5 * tau) * rate / 3600.0;
         };
         const double h = coreHours(pick.mean), lo = coreHours(pick.mean - 1.645 * pick.sd),
                      hi = coreHours(pick.mean + 1.645 * pick.sd);
@@ -84,18 +88,18 @@ nlohmann::json forecastCampaign(const store::CampaignInfo& c, const std::vector<
         points.push_back({{"index", r.index}, {"status", r.status}, {"replicate", store::isReplicate(r)},
                           {"predicted_loading_kg", std::exp(pick.mean)}, {"feed_kg_h", feed},
                           {"residence_s", std::exp(pick.mean) / feed * 3600.0},
-                          {"flow_to_verdict_s", a + b * std::exp(pick.mean) / feed * 3600.0},
+                          {"flow_to_verdict_s", flowToVerdict(std::exp(pick.mean) / feed * 3600.0)},
                           {"flow_done_s", done}, {"core_hours_left", h},
                           {"core_hours_left_90", {lo, hi}}});
     }
     return {{"points", points},
             {"core_hours_left", left},
             {"core_hours_left_90", {leftLow, leftHigh}},
-            {"flow_fit", {{"intercept_s", a}, {"per_residence_time", b}, {"runs", flow.size()},
+            {"flow_fit", {{"intercept_s", a}, {"per_residence_time", b}, {"floor_s", fastest}, {"runs", flow.size()},
                           {"median_abs_error", median(fitError)}}},
             {"core_seconds_per_flow_second", rate},
             {"model_runs", units.size()},
-            {"method", "flow to verdict t = a + b M/feed fitted on the steady runs; M from the kriging model of "
+            {"method", "flow to verdict t = max(a + b M/feed, the fastest verdict) fitted on the steady runs; M from the kriging model of "
                        "their log loading (90% of its spread); core-seconds per second of flow: their median"}};
 }
 

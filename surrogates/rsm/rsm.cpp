@@ -137,6 +137,26 @@ ResponseSurface ResponseSurface::fit(const Eigen::MatrixXd& Z, const Eigen::Vect
     return fitTerms(Z, y, chosen);
 }
 
+ResponseSurface::Loo ResponseSurface::selectedLoo(const Eigen::MatrixXd& Z, const Eigen::VectorXd& y) {
+    const Eigen::Index n = Z.rows();
+    Loo out{Eigen::VectorXd(n), Eigen::VectorXd(n)};
+    std::vector<double> scratch;
+    for (Eigen::Index i = 0; i < n; ++i) {
+        Eigen::MatrixXd Zi(n - 1, Z.cols());
+        Eigen::VectorXd yi(n - 1);
+        for (Eigen::Index r = 0, k = 0; r < n; ++r)
+            if (r != i) Zi.row(k) = Z.row(r), yi(k++) = y(r);
+        const auto s = fit(Zi, yi, true);
+        scratch.assign(s.terms().size(), 0.0);
+        const Eigen::VectorXd z = Z.row(i).transpose();  // a row of a column-major matrix is strided
+        double mean = 0, var = 0;
+        s.predict(z.data(), scratch.data(), mean, var);
+        out.residuals(i) = y(i) - mean;
+        out.variances(i) = var;  // selection keeps n - p >= 2, so s^2 is defined
+    }
+    return out;
+}
+
 Eigen::VectorXd ResponseSurface::standardErrors() const {
     return (s2_ * xtxInv_.diagonal()).cwiseMax(0.0).cwiseSqrt();
 }

@@ -29,6 +29,15 @@ public:
     static ResponseSurface fitTerms(const Eigen::MatrixXd& Z, const Eigen::VectorXd& y,
                                     const std::vector<Term>& terms);
 
+    // Leave-one-out of the whole procedure: each run is predicted by a surface whose terms were
+    // selected without it. The closed-form residuals of a selected surface are optimistic (the
+    // terms were chosen to make them small); with few runs and 36 candidates, by a factor of
+    // several. Returns y_i - yhat_{-i} and the variance of a new observation at run i.
+    struct Loo {
+        Eigen::VectorXd residuals, variances;
+    };
+    static Loo selectedLoo(const Eigen::MatrixXd& Z, const Eigen::VectorXd& y);
+
     int dims() const { return dims_; }
     const std::vector<Term>& terms() const { return terms_; }
     const Eigen::VectorXd& coefficients() const { return coef_; }

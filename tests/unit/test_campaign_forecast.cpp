@@ -49,6 +49,7 @@ TEST(CampaignForecast, RecoversTheFlowAndCostLawsAndCountsTheFlowRun) {
     runs[0].result["start"] = {{"continues_run_dir", "0-x"}, {"source_time_s", 1.0}, {"flow_before_s", before}};
     runs.push_back(row(9, 10, 100, "running"));
     runs.push_back(row(10, 20, 130, "queued"));
+    runs.push_back(row(11, 58, 250, "queued"));  // shorter residence than any finished run
 
     // Fewer than five steady runs: no fit to trust.
     EXPECT_TRUE(forecastCampaign(c, std::vector<store::LedgerRun>(runs.begin(), runs.begin() + 4), space, {}, {}).is_null());
@@ -58,11 +59,16 @@ TEST(CampaignForecast, RecoversTheFlowAndCostLawsAndCountsTheFlowRun) {
     EXPECT_NEAR(f["flow_fit"]["intercept_s"].get<double>(), 12.0, 1e-6);
     EXPECT_NEAR(f["flow_fit"]["per_residence_time"].get<double>(), 1.8, 1e-9);
     EXPECT_NEAR(f["core_seconds_per_flow_second"].get<double>(), 40.0, 1e-9);
-    ASSERT_EQ(f["points"].size(), 2u);
+    ASSERT_EQ(f["points"].size(), 3u);
+    // No point is forecast faster than the fastest verdict among the finished runs.
+    double fastest = 1e300;
+    for (int i = 1; i < 9; ++i) fastest = std::min(fastest, runs[static_cast<size_t>(i)].result["steady_time_s"].get<double>());
+    EXPECT_NEAR(f["flow_fit"]["floor_s"].get<double>(), fastest, 1e-9);
+    EXPECT_NEAR(f["points"][2]["flow_to_verdict_s"].get<double>(), fastest, 1e-9);
     double sum = 0;
     for (const auto& p : f["points"]) {
         const double m = p["predicted_loading_kg"].get<double>(), feed = p["feed_kg_h"].get<double>();
-        const double tau = m / feed * 3600.0, flow = 12.0 + 1.8 * tau, done = p["flow_done_s"].get<double>();
+        const double tau = m / feed * 3600.0, flow = std::max(12.0 + 1.8 * tau, fastest), done = p["flow_done_s"].get<double>();
         EXPECT_NEAR(p["flow_to_verdict_s"].get<double>(), flow, 1e-6 * flow);
         EXPECT_NEAR(p["core_hours_left"].get<double>(), std::max(flow - done, 0.5 * tau) * 40.0 / 3600.0, 1e-9);
         EXPECT_LE(p["core_hours_left_90"][0].get<double>(), p["core_hours_left"].get<double>());

@@ -79,6 +79,29 @@ TEST(Rsm, PressEqualsBruteForceLeaveOneOut) {
     EXPECT_NEAR(s.press(), press, 1e-10 * press);
 }
 
+// Pure noise in five inputs, 13 runs (v2's interim size): forward selection finds terms that fit
+// the noise, and their closed-form leave-one-out residuals look good. Selecting anew in each fold
+// cannot predict noise: its mean squared error is at least the noise's variance. The closed form
+// would pass the model; this is the figure `surrogate fit` reports for a selected surface.
+TEST(Rsm, SelectedLeaveOneOutSeesTheSelectionsOptimism) {
+    const int n = 13;
+    const auto Z = randomZ(n, 5, 21);
+    std::mt19937 g(4);
+    std::normal_distribution<double> noise(0, 1);
+    Eigen::VectorXd y(n);
+    for (int i = 0; i < n; ++i) y(i) = noise(g);
+    const double var = (y.array() - y.mean()).square().sum() / (n - 1);
+    const auto s = ResponseSurface::fit(Z, y, true);
+    const double closed = s.looResiduals().squaredNorm() / n;
+    const auto loo = ResponseSurface::selectedLoo(Z, y);
+    const double nested = loo.residuals.squaredNorm() / n;
+    EXPECT_GT(s.terms().size(), 1u) << "the selection found no spurious term: the case shows nothing";
+    EXPECT_LT(closed, 0.8 * var) << "the closed form is not optimistic here";
+    EXPECT_GT(nested, var);
+    EXPECT_GT(nested, 1.5 * closed) << "closed " << closed << ", nested " << nested << ", var " << var;
+    for (int i = 0; i < n; ++i) EXPECT_GT(loo.variances(i), 0) << i;
+}
+
 TEST(Rsm, StandardErrorsMatchTheTextbookFormula) {
     // y = a + b z on known points: se(b) = s / sqrt(sum (z - zbar)^2).
     Eigen::MatrixXd Z(6, 1);

@@ -166,6 +166,17 @@ TEST(SurrogateModel, CheckSeparatesHoldOutFromTraining) {
     EXPECT_LE(c["coverage95"].get<double>(), 1.0);
     // The closed-form LOO errors are the validation statistics recorded at fit time.
     EXPECT_NEAR(c["loo"]["mean_rel_error"].get<double>(), m.validation()["mean_rel_error"].get<double>(), 1e-12);
+
+    // A run far outside the box counts in the hold-out but not in its in-box part.
+    auto far = all[40];
+    far.id = "far";
+    far.x[6] = m.boxMax()[6] * 3;
+    t.rows.push_back(far);
+    const auto f = checkModel(m, t);
+    EXPECT_EQ(f["n_holdout"], 11);
+    EXPECT_EQ(f["holdout_in_box"], c["holdout_in_box"]);
+    EXPECT_GT(c["holdout_in_box"]["n"].get<int>(), 0);
+    EXPECT_LE(c["holdout_in_box"]["n"].get<int>(), 10);
 }
 
 namespace {
