@@ -24,6 +24,7 @@ struct SurrogateCmd {
                 kernel = "matern52", trend = "constant", objective = "likelihood", holdoutCampaign, holdoutTable;
     int holdout = 0, starts = 20;
     std::vector<int> sizes;
+    std::vector<std::string> trendInputs;
     double target = 0.03, noise = 0;
     std::string out = "runs/surrogates/curve";
     unsigned seed = 1;
@@ -59,6 +60,7 @@ surrogates::FitOptions fitOptions(const SurrogateCmd& o) {
     requireRange("noise", o.noise, 0, 1);
     f.noise = o.noise;
     f.select = !o.noSelect;
+    f.trendInputs = o.trendInputs;
     try {
         f.kriging.kernel = surrogates::kernelFromString(o.kernel == "se" ? "squared-exponential" : o.kernel);
         f.kriging.trend = surrogates::trendFromString(o.trend);
@@ -93,7 +95,7 @@ int fit(const SurrogateCmd& o) {
                                     {"runs_skipped", runs.skipped},
                                     {"holdout_ids", held},
                                     {"options", {{"kind", o.kind}, {"transform", o.transform}, {"similarity", o.similarity}, {"noise", o.noise}, {"select", !o.noSelect},
-                                                 {"kernel", o.kernel}, {"trend", o.trend}, {"objective", o.objective}, {"starts", o.starts},
+                                                 {"kernel", o.kernel}, {"trend", o.trend}, {"trend_inputs", o.trendInputs}, {"objective", o.objective}, {"starts", o.starts},
                                                  {"seed", o.seed}}},
                                     {"mixload_version", kVersion},
                                     {"git_commit", kGitCommit},
@@ -355,6 +357,9 @@ void addFitOptions(CLI::App* c, SurrogateCmd* o) {
     c->add_flag("--no-select", o->noSelect, "rsm: keep every term of the full quadratic (no PRESS selection)");
     c->add_option("--kernel", o->kernel, "kriging: matern52 | se")->capture_default_str();
     c->add_option("--trend", o->trend, "kriging: constant | linear")->capture_default_str();
+    c->add_option("--trend-inputs", o->trendInputs,
+                  "kriging: a linear trend in these model inputs only, e.g. feed/rho,rpm (with --transform log: a power law in them)")
+        ->delimiter(',');
     c->add_option("--objective", o->objective, "kriging: hyperparameters by likelihood | loo (closed-form leave-one-out error)")
         ->capture_default_str();
     c->add_option("--starts", o->starts, "kriging: multistart count of the likelihood optimisation")->capture_default_str();

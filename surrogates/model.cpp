@@ -117,11 +117,26 @@ Surrogate Surrogate::fit(const std::vector<Row>& train, const FitOptions& o, nlo
             s.umax_[k] = fwd(tf.logInput[k], s.dmax_[k]);
             if (!(s.umax_[k] > s.umin_[k])) s.umax_[k] = s.umin_[k] + 1;  // a constant input
         }
-        // A linear trend needs every input to vary: a constant one is a zero column beside the
+        auto ko = o.kriging;
+        for (const auto& name : o.trendInputs) {
+            int at = -1;
+            for (int k = 0; k < d; ++k)
+                if (s.in_[static_cast<size_t>(k)].name == name) at = k;
+            if (at < 0) {
+                std::string names;
+                for (int k = 0; k < d; ++k) names += (k ? ", " : "") + s.in_[static_cast<size_t>(k)].name;
+                throw InputError("trend-inputs", name, "one of this model's inputs: " + names);
+            }
+            ko.trendInputs.push_back(at);
+            ko.trend = Trend::Linear;
+        }
+        // A linear trend needs its inputs to vary: a constant one is a zero column beside the
         // intercept (e.g. rho and I0, which issue 16's campaigns fix by design).
-        if (o.kind == "kriging" && o.kriging.trend == Trend::Linear)
+        if (o.kind == "kriging" && ko.trend == Trend::Linear)
             for (size_t k = 0; k < static_cast<size_t>(d); ++k)
-                if (!(s.dmax_[k] > s.dmin_[k]))
+                if ((ko.trendInputs.empty() || std::find(ko.trendInputs.begin(), ko.trendInputs.end(), static_cast<int>(k)) !=
+                                                   ko.trendInputs.end()) &&
+                    !(s.dmax_[k] > s.dmin_[k]))
                     throw InputError("trend", "linear",
                                      "inputs that vary over the training runs; " + s.in_[k].name + " is " +
                                          formatNumber(s.dmin_[k]) + " in all " + std::to_string(n) +
@@ -157,7 +172,6 @@ Surrogate Surrogate::fit(const std::vector<Row>& train, const FitOptions& o, nlo
                 }
             }
         } else {
-            auto ko = o.kriging;
             // In log M the relative noise is the noise itself; in M, relative to the typical loading.
             if (o.noise > 0) ko.noiseVarianceMin = tf.logOutput ? o.noise * o.noise : std::pow(o.noise * y.cwiseAbs().mean(), 2);
             try {

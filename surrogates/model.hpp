@@ -47,6 +47,9 @@ struct FitOptions {
     // nugget is kept at or above it (KrigingOptions::noiseVarianceMin; 0: no floor).
     double noise = 0;
     bool select = true;              // rsm: forward term selection by PRESS
+    // kriging: a linear trend in these model inputs only (names as inputNames() gives them, e.g.
+    // "feed/rho", "rpm"); empty: kriging.trend decides (constant, or linear in every input).
+    std::vector<std::string> trendInputs;
     KrigingOptions kriging;
 };
 

@@ -58,7 +58,8 @@ AdaptiveBatch mostUncertain(const Design& done, const std::vector<double>& y, co
         const Eigen::MatrixXd C = matrixOf(cond, k);
         const Eigen::VectorXd V = Eigen::Map<const Eigen::VectorXd>(vals.data(), static_cast<Eigen::Index>(vals.size()));
         const auto believer =
-            surrogates::Kriging::withHyperparameters(C, V, model.kernel(), model.trend(), model.lengthScales(), 1e-8);
+            surrogates::Kriging::withHyperparameters(C, V, model.kernel(), model.trend(), model.lengthScales(), 1e-8,
+                                                     model.trendInputs());
         auto bws = believer.makeWorkspace();
         double best = -1;
         size_t at = 0;

@@ -45,12 +45,22 @@ Trend trendFromString(const std::string& s) {
 
 namespace {
 
-void validateData(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, Trend t) {
+void validateData(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, Trend t, const std::vector<int>& trendInputs) {
     if (X.cols() < 1) throw std::invalid_argument("kriging: X has no columns");
     if (X.rows() != y.size())
         throw std::invalid_argument("kriging: X has " + std::to_string(X.rows()) + " rows but y has " +
                                     std::to_string(y.size()) + " values");
-    const Eigen::Index p = t == Trend::Constant ? 1 : X.cols() + 1;
+    for (size_t a = 0; a < trendInputs.size(); ++a) {
+        if (trendInputs[a] < 0 || trendInputs[a] >= X.cols())
+            throw std::invalid_argument("kriging: trend input " + std::to_string(trendInputs[a]) + " is not a column of X (0.." +
+                                        std::to_string(X.cols() - 1) + ")");
+        for (size_t b = 0; b < a; ++b)
+            if (trendInputs[a] == trendInputs[b])
+                throw std::invalid_argument("kriging: trend input " + std::to_string(trendInputs[a]) + " given twice");
+    }
+    if (!trendInputs.empty() && t != Trend::Linear)
+        throw std::invalid_argument("kriging: trend inputs need a linear trend");
+    const Eigen::Index p = t == Trend::Constant ? 1 : 1 + (trendInputs.empty() ? X.cols() : static_cast<Eigen::Index>(trendInputs.size()));
     // One more point than trend coefficients, or sigma^2 is zero by construction.
     if (X.rows() < p + 1)
         throw std::invalid_argument("kriging: " + std::to_string(X.rows()) + " points are too few for a " +
@@ -80,8 +90,11 @@ double Kriging::correlation(const double* a, const double* b) const {
 
 void Kriging::trendBasis(const double* x, double* f) const {
     f[0] = 1.0;
-    if (trend_ == Trend::Linear)
+    if (trend_ != Trend::Linear) return;
+    if (trendInputs_.empty())
         for (int k = 0; k < dims(); ++k) f[k + 1] = x[k];
+    else
+        for (size_t k = 0; k < trendInputs_.size(); ++k) f[k + 1] = x[trendInputs_[k]];
 }
 
 bool Kriging::assemble() {
@@ -125,8 +138,9 @@ bool Kriging::assemble() {
 }
 
 Kriging Kriging::withHyperparameters(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, Kernel k, Trend t,
-                                     const Eigen::VectorXd& lengthScales, double nugget) {
-    validateData(X, y, t);
+                                     const Eigen::VectorXd& lengthScales, double nugget,
+                                     const std::vector<int>& trendInputs) {
+    validateData(X, y, t, trendInputs);
     if (lengthScales.size() != X.cols())
         throw std::invalid_argument("kriging: " + std::to_string(lengthScales.size()) + " length scales for " +
                                     std::to_string(X.cols()) + " inputs");
@@ -137,6 +151,7 @@ Kriging Kriging::withHyperparameters(const Eigen::MatrixXd& X, const Eigen::Vect
     Kriging m;
     m.kernel_ = k;
     m.trend_ = t;
+    m.trendInputs_ = trendInputs;
     m.X_ = X;
     m.y_ = y;
     m.lengthScales_ = lengthScales;
@@ -281,7 +296,7 @@ double evaluate(SearchContext& c, const double* theta) {
     Eigen::VectorXd ls(c.d);
     for (int k = 0; k < c.d; ++k) ls[k] = std::exp(theta[k]);
     const double g = c.o->estimateNugget ? std::exp(theta[c.d]) : c.o->nugget;
-    Kriging m = Kriging::withHyperparameters(*c.X, *c.y, c.o->kernel, c.o->trend, ls, g);
+    Kriging m = Kriging::withHyperparameters(*c.X, *c.y, c.o->kernel, c.o->trend, ls, g, c.o->trendInputs);
     if (!c.loo) return -m.logLikelihood();
     const Eigen::VectorXd r = m.looResiduals();
     const double mse = r.squaredNorm() / static_cast<double>(r.size());
@@ -352,7 +367,7 @@ std::string formatBound(double v) {
 }  // namespace
 
 Kriging Kriging::fit(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const KrigingOptions& o) {
-    validateData(X, y, o.trend);
+    validateData(X, y, o.trend, o.trendInputs);
     validateOptions(o);
     const int d = static_cast<int>(X.cols());
     const int m = d + (o.estimateNugget ? 1 : 0);
@@ -392,7 +407,7 @@ Kriging Kriging::fit(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const K
     Eigen::VectorXd ls(d);
     for (int k = 0; k < d; ++k) ls[k] = std::exp(ctx.best[static_cast<std::size_t>(k)]);
     const double g = o.estimateNugget ? std::exp(ctx.best.back()) : o.nugget;
-    Kriging model = withHyperparameters(X, y, o.kernel, o.trend, ls, g);
+    Kriging model = withHyperparameters(X, y, o.kernel, o.trend, ls, g, o.trendInputs);
     if (o.noiseVarianceMin > 0 && model.sigma2_ * model.nugget_ < o.noiseVarianceMin) {
         // sigma^2 is profiled, so fixing g = floor / sigma^2 moves sigma^2: a few fixed-point steps.
         KrigingOptions fixed = o;
@@ -524,6 +539,7 @@ nlohmann::json Kriging::toJson() const {
     j["version"] = kVersion;
     j["kernel"] = toString(kernel_);
     j["trend"] = toString(trend_);
+    if (!trendInputs_.empty()) j["trendInputs"] = trendInputs_;
     j["dims"] = dims();
     j["size"] = size();
     j["X"] = rows(X_);
@@ -564,7 +580,14 @@ Kriging Kriging::fromJson(const nlohmann::json& j) {
         bad("trend", e.what());
     }
     const int d = count(j, "dims"), n = count(j, "size");
-    const int p = m.trend_ == Trend::Constant ? 1 : d + 1;
+    if (j.contains("trendInputs")) {
+        if (!j["trendInputs"].is_array() || m.trend_ != Trend::Linear) bad("trendInputs", "must be a list of input columns, with a linear trend");
+        for (const auto& v : j["trendInputs"]) {
+            if (!v.is_number_integer() || v.get<int>() < 0 || v.get<int>() >= d) bad("trendInputs", "must name columns 0.." + std::to_string(d - 1));
+            m.trendInputs_.push_back(v.get<int>());
+        }
+    }
+    const int p = m.trend_ == Trend::Constant ? 1 : 1 + (m.trendInputs_.empty() ? d : static_cast<int>(m.trendInputs_.size()));
     m.X_ = matrixField(j, "X", n, d);
     m.y_ = vectorField(j, "y", n);
     m.lengthScales_ = vectorField(j, "lengthScales", d);

@@ -18,6 +18,10 @@ Trend trendFromString(const std::string& s);
 struct KrigingOptions {
     Kernel kernel = Kernel::Matern52;
     Trend trend = Trend::Constant;
+    // A linear trend's inputs (column numbers); empty: all of them. A trend in the inputs that
+    // carry a known law (e.g. log feed and log speed) leaves the rest to the process, with fewer
+    // coefficients for few runs to pin down.
+    std::vector<int> trendInputs;
     bool estimateNugget = true;  // nugget (as a fraction of the process variance) estimated with the length scales
     double nugget = 1e-10;       // used when !estimateNugget (a tiny jitter keeps the Cholesky stable; 0 allowed)
     double nuggetMin = 1e-10, nuggetMax = 1e-1;
@@ -43,7 +47,8 @@ public:
     // Hyperparameters fixed, no optimisation. Throws std::invalid_argument on bad sizes or values and
     // std::runtime_error when the correlation matrix is not numerically positive definite.
     static Kriging withHyperparameters(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, Kernel k,
-                                       Trend t, const Eigen::VectorXd& lengthScales, double nugget);
+                                       Trend t, const Eigen::VectorXd& lengthScales, double nugget,
+                                       const std::vector<int>& trendInputs = {});
 
     int dims() const { return static_cast<int>(X_.cols()); }
     int size() const { return static_cast<int>(X_.rows()); }
@@ -76,6 +81,7 @@ public:
     double processVariance() const { return sigma2_; }
     Kernel kernel() const { return kernel_; }
     Trend trend() const { return trend_; }
+    const std::vector<int>& trendInputs() const { return trendInputs_; }  // empty: all (linear)
     const Eigen::VectorXd& beta() const { return beta_; }
 
     // Hyperparameters that ended on a search bound (inputs numbered from 0). Only fit() knows the
@@ -94,7 +100,9 @@ private:
     bool assemble();
     void setInverseLengths();
     void checkWorkspace(const Workspace& ws) const;  // sizes only: a foreign workspace would overrun
-    int trendSize() const { return trend_ == Trend::Constant ? 1 : dims() + 1; }
+    int trendSize() const {
+        return trend_ == Trend::Constant ? 1 : 1 + (trendInputs_.empty() ? dims() : static_cast<int>(trendInputs_.size()));
+    }
     double correlation(const double* a, const double* b) const;
     void trendBasis(const double* x, double* f) const;
     // Diagonal of Q = C^-1 - C^-1 F (F^T C^-1 F)^-1 F^T C^-1.
@@ -102,6 +110,7 @@ private:
 
     Kernel kernel_ = Kernel::Matern52;
     Trend trend_ = Trend::Constant;
+    std::vector<int> trendInputs_;
     Eigen::MatrixXd X_;   // n x d, as given
     Eigen::MatrixXd Xt_;  // d x n, so each training point is contiguous for the hot loop
     Eigen::VectorXd y_;

@@ -56,6 +56,11 @@ TEST(SurrogateCli, FitPredictWhatifCheck) {
     auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["n_train"], 32);
     EXPECT_EQ(j["n_holdout"], 8);
+    // A trend input the model does not have: exit 2 naming it and the allowed inputs, no file.
+    r = runMixload({"surrogate", "fit", "--table", table.string(), "--trend-inputs", "feed/rho", "-o", (dir / "t.json").string()});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_NE(r.err.find("trend-inputs = feed/rho: allowed one of this model's inputs: mu_s,"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "t.json"));
 
     r = runMixload(cat({"predict", "--model", model.string(), "--feed-kg-h", "20", "--rpm", "100", "--json"}, kAvicel));
     ASSERT_EQ(r.rc, 0) << r.err;
