@@ -1,9 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include <cmath>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "app/commands.hpp"
+#include "common/input_error.hpp"
+#include "post/bed_profile.hpp"
 #include "post/snapshots.hpp"
 #include "store/snapshot_file.hpp"
 
@@ -13,6 +17,7 @@ namespace {
 struct SnapshotsCmd {
     std::string runDir, output, fields = "alpha,U,p", file;
     int every = 1;
+    std::optional<double> time;
     bool float64 = false, json = false, noVerify = false;
 };
 
@@ -90,6 +95,40 @@ void addSnapshots(CLI::App& app, Action& action) {
             std::cout << "  params:";
             for (const auto& [k, v] : r["params"].items()) std::cout << ' ' << k << '=' << v.dump();
             std::cout << '\n' << (r["verified"].get<bool>() ? "  checksums verified\n" : "");
+            return 0;
+        };
+    });
+
+    auto* pr = cmd->add_subcommand("profile", "Where a mixer's powder sits along the shaft: mass, dense mass and the dense top per axial layer");
+    pr->add_option("FILE", o->file, "Snapshot file (.h5) of a mixer run")->required();
+    pr->add_option("--time", o->time, "Written time [s] (the nearest is taken; default the last)");
+    pr->add_flag("--json", o->json, "Print JSON");
+    pr->callback([&action, o] {
+        action = [o] {
+            const store::SnapshotFile f(o->file);
+            size_t t = f.times().size() - 1;
+            if (o->time) {
+                requireRange("time", *o->time, f.times().front(), f.times().back());
+                for (size_t k = 0; k < f.times().size(); ++k)
+                    if (std::abs(f.times()[k] - *o->time) < std::abs(f.times()[t] - *o->time)) t = k;
+            }
+            const auto p = post::bedProfile(f, t);
+            if (o->json) {
+                auto j = p.toJson();
+                j["file"] = o->file;
+                std::cout << j.dump(2) << '\n';
+                return 0;
+            }
+            std::cout << o->file << " at t = " << p.time << " s: M = " << p.loadingKg << " kg ("
+                      << p.layers.size() << " axial layers; dense: cells more than half powder)\n"
+                      << "  x [m]    mass [kg]  dense [kg]  dense top z [m]\n";
+            for (const auto& l : p.layers) {
+                std::cout << "  " << std::fixed << std::setprecision(4) << std::setw(6) << l.x << "  "
+                          << std::setprecision(5) << std::setw(9) << l.massKg << "  " << std::setw(9) << l.denseKg << "  ";
+                if (std::isfinite(l.topZ)) std::cout << std::setprecision(4) << std::setw(8) << l.topZ;
+                else std::cout << "       -";
+                std::cout << std::defaultfloat << '\n';
+            }
             return 0;
         };
     });

@@ -96,6 +96,12 @@ Eigen::VectorXd SnapshotFile::faceColumn(const std::string& field, size_t t) con
 
 bool SnapshotFile::hasFaceField(const std::string& field) const { return h5::exists(file_, "/faces/" + field); }
 
+std::vector<double> SnapshotFile::cellCentres(size_t t) const {
+    if (!h5::exists(file_, "/fields/cell_centres")) return meshDoubles("cell_centres");
+    const Eigen::VectorXd c = rowOf(file_, path_, "/fields/cell_centres", t, times_.size(), "cell centres");
+    return {c.data(), c.data() + c.size()};
+}
+
 
 
 Eigen::MatrixXd SnapshotFile::matrix(const std::string& field, const std::vector<size_t>& timeIndices) const {

@@ -42,6 +42,9 @@ public:
     // A face field (phi): internal faces, then the non-empty patches' faces.
     Eigen::VectorXd faceColumn(const std::string& field, size_t timeIndex) const;
     bool hasFaceField(const std::string& field) const;
+    // Cell centres at one time, x y z per cell: a moving mesh's (/fields/cell_centres), else the
+    // fixed mesh's.
+    std::vector<double> cellCentres(size_t timeIndex) const;
     // Every time (or the given ones) as columns.
     Eigen::MatrixXd matrix(const std::string& field, const std::vector<size_t>& timeIndices = {}) const;
     // Provenance, params, time range and every dataset's shape, type and stored size; verify reads

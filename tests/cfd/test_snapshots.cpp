@@ -12,6 +12,7 @@
 
 #include "cli_harness.hpp"
 #include "common/atomic_file.hpp"
+#include "post/bed_profile.hpp"
 #include "post/foam_files.hpp"
 #include "store/h5_io.hpp"
 #include "post/snapshots.hpp"
@@ -223,4 +224,34 @@ TEST(Snapshots, FunctionObjectStateReadsNumbersAndLists) {
     EXPECT_EQ(s.at("sampleLoadings"), (std::vector<double>{1, 2, 3}));
     EXPECT_EQ(s.at("sampleOutflows"), (std::vector<double>{0, 0, 0}));
     EXPECT_THROW(post::readFunctionObjectState(file, "absent"), std::runtime_error);
+}
+
+// The bed profile of the shipped 1 cm reference snapshot (gcm250-v2, 611 s): its layers add up to
+// the loading and the dense loading that the solver's own monitor wrote at that time (alpha stored
+// in float32), one layer per axial station of the O-grid, in order. The CLI names a bad time.
+TEST(Snapshots, BedProfileAddsUpToTheMonitorsLoading) {
+    const std::string file = MIXLOAD_SOURCE_DIR "/data/snapshots/mixer-gcm250-v2-reference-4af44e4a3db3f89a.h5";
+    const mixload::store::SnapshotFile f(file);
+    const auto p = mixload::post::bedProfile(f, f.times().size() - 1);
+    const auto history = mixload::h5::readDoubles(mixload::h5::openFile(file), "/history/loading");
+    const size_t last = history.size() / 9 - 1;
+    ASSERT_NEAR(history[9 * last], p.time, 1e-6);
+    EXPECT_NEAR(p.loadingKg, history[9 * last + 1], 1e-6 * history[9 * last + 1]);
+    double mass = 0, dense = 0;
+    for (size_t k = 0; k < p.layers.size(); ++k) {
+        mass += p.layers[k].massKg;
+        dense += p.layers[k].denseKg;
+        EXPECT_LE(p.layers[k].denseKg, p.layers[k].massKg);
+        if (k) EXPECT_GT(p.layers[k].x, p.layers[k - 1].x);
+    }
+    EXPECT_NEAR(mass, p.loadingKg, 1e-12);
+    EXPECT_NEAR(dense, history[9 * last + 8], 1e-5 * history[9 * last + 8]);
+    EXPECT_EQ(p.layers.size(), 32u);  // the 1 cm O-grid's axial stations over 0.3 m
+
+    auto r = runMixload({"snapshots", "profile", file, "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_NEAR(nlohmann::json::parse(r.out)["loading_kg"].get<double>(), p.loadingKg, 1e-12);
+    r = runMixload({"snapshots", "profile", file, "--time", "5000"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_NE(r.err.find("time = 5000"), std::string::npos) << r.err;
 }
