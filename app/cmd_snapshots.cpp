@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <cmath>
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <optional>
@@ -16,6 +17,7 @@ namespace mixload::app {
 namespace {
 struct SnapshotsCmd {
     std::string runDir, output, fields = "alpha,U,p", file;
+    std::vector<std::string> files;
     int every = 1;
     std::optional<double> time;
     bool float64 = false, json = false, noVerify = false;
@@ -100,35 +102,52 @@ void addSnapshots(CLI::App& app, Action& action) {
     });
 
     auto* pr = cmd->add_subcommand("profile", "Where a mixer's powder sits along the shaft: mass, dense mass and the dense top per axial layer");
-    pr->add_option("FILE", o->file, "Snapshot file (.h5) of a mixer run")->required();
-    pr->add_option("--time", o->time, "Written time [s] (the nearest is taken; default the last)");
+    pr->add_option("FILE", o->files, "Snapshot files (.h5) of mixer runs, e.g. MRF and SM at one point")->required();
+    pr->add_option("--time", o->time, "Written time [s] (the nearest in each file; default each file's last)");
+    pr->add_option("--plot", o->output, "Directory for profile.dat and profile.png (the files' profiles on one pair of axes)");
     pr->add_flag("--json", o->json, "Print JSON");
     pr->callback([&action, o] {
         action = [o] {
-            const store::SnapshotFile f(o->file);
-            size_t t = f.times().size() - 1;
-            if (o->time) {
-                requireRange("time", *o->time, f.times().front(), f.times().back());
-                for (size_t k = 0; k < f.times().size(); ++k)
-                    if (std::abs(f.times()[k] - *o->time) < std::abs(f.times()[t] - *o->time)) t = k;
+            std::vector<std::pair<std::string, post::BedProfile>> profiles;
+            for (const auto& file : o->files) {
+                const store::SnapshotFile f(file);
+                size_t t = f.times().size() - 1;
+                if (o->time) {
+                    requireRange("time", *o->time, f.times().front(), f.times().back());
+                    for (size_t k = 0; k < f.times().size(); ++k)
+                        if (std::abs(f.times()[k] - *o->time) < std::abs(f.times()[t] - *o->time)) t = k;
+                }
+                profiles.emplace_back(std::filesystem::path(file).stem().string(), post::bedProfile(f, t));
             }
-            const auto p = post::bedProfile(f, t);
+            std::string warning;
+            std::optional<std::filesystem::path> png;
+            if (!o->output.empty()) png = post::plotBedProfiles(profiles, o->output, warning);
+            if (!warning.empty()) std::cerr << "mixload: warning: " << warning << '\n';
             if (o->json) {
-                auto j = p.toJson();
-                j["file"] = o->file;
+                nlohmann::json j{{"profiles", nlohmann::json::array()}};
+                for (size_t k = 0; k < profiles.size(); ++k) {
+                    auto p = profiles[k].second.toJson();
+                    p["file"] = o->files[k];
+                    j["profiles"].push_back(p);
+                }
+                if (png) j["plot"] = png->string();
                 std::cout << j.dump(2) << '\n';
                 return 0;
             }
-            std::cout << o->file << " at t = " << p.time << " s: M = " << p.loadingKg << " kg ("
-                      << p.layers.size() << " axial layers; dense: cells more than half powder)\n"
-                      << "  x [m]    mass [kg]  dense [kg]  dense top z [m]\n";
-            for (const auto& l : p.layers) {
-                std::cout << "  " << std::fixed << std::setprecision(4) << std::setw(6) << l.x << "  "
-                          << std::setprecision(5) << std::setw(9) << l.massKg << "  " << std::setw(9) << l.denseKg << "  ";
-                if (std::isfinite(l.topZ)) std::cout << std::setprecision(4) << std::setw(8) << l.topZ;
-                else std::cout << "       -";
-                std::cout << std::defaultfloat << '\n';
+            for (size_t k = 0; k < profiles.size(); ++k) {
+                const auto& p = profiles[k].second;
+                std::cout << o->files[k] << " at t = " << p.time << " s: M = " << p.loadingKg << " kg ("
+                          << p.layers.size() << " axial layers; dense: cells more than half powder)\n"
+                          << "  x [m]    mass [kg]  dense [kg]  dense top z [m]\n";
+                for (const auto& l : p.layers) {
+                    std::cout << "  " << std::fixed << std::setprecision(4) << std::setw(6) << l.x << "  "
+                              << std::setprecision(5) << std::setw(9) << l.massKg << "  " << std::setw(9) << l.denseKg << "  ";
+                    if (std::isfinite(l.topZ)) std::cout << std::setprecision(4) << std::setw(8) << l.topZ;
+                    else std::cout << "       -";
+                    std::cout << std::defaultfloat << '\n';
+                }
             }
+            if (png) std::cout << "plot " << png->string() << '\n';
             return 0;
         };
     });

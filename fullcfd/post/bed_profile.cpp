@@ -6,6 +6,11 @@
 #include <limits>
 #include <numeric>
 
+#include <iomanip>
+#include <sstream>
+
+#include "common/atomic_file.hpp"
+#include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
 
 namespace mixload::post {
@@ -52,6 +57,29 @@ BedProfile bedProfile(const store::SnapshotFile& file, size_t timeIndex, double 
         p.loadingKg += m;
     }
     return p;
+}
+
+std::optional<std::filesystem::path> plotBedProfiles(const std::vector<std::pair<std::string, BedProfile>>& profiles,
+                                                     const std::filesystem::path& dir, std::string& warning) {
+    std::filesystem::create_directories(dir);
+    std::ostringstream dat, plotMass, plotTop;
+    for (size_t k = 0; k < profiles.size(); ++k) {
+        const auto& [label, p] = profiles[k];
+        dat << "# " << label << " at t = " << p.time << " s, M = " << p.loadingKg << " kg\n# x_m mass_kg dense_kg dense_top_z_m\n";
+        for (const auto& l : p.layers)
+            dat << l.x << ' ' << l.massKg << ' ' << l.denseKg << ' ' << (std::isfinite(l.topZ) ? std::to_string(l.topZ) : "NaN") << '\n';
+        dat << "\n\n";  // one gnuplot index per profile
+        std::ostringstream title;
+        title << label << " (M " << std::setprecision(4) << p.loadingKg << " kg)";
+        plotMass << (k ? ", " : "plot ") << "'profile.dat' index " << k << " using 1:2 with linespoints lw 2 title '" << title.str() << "'";
+        plotTop << (k ? ", " : "plot ") << "'profile.dat' index " << k << " using 1:4 with linespoints lw 2 title '" << title.str() << "'";
+    }
+    writeFileAtomic(dir / "profile.dat", dat.str());
+    const std::string body = "set multiplot layout 2,1\nset key top right noenhanced\nset grid\n"
+                             "set ylabel 'powder per axial layer of cells [kg]'\nset yrange [0:*]\n" + plotMass.str() + "\n"
+                             "set xlabel 'x along the shaft, feed end at 0 [m]'\nset ylabel 'top of the dense powder, z [m] (axis at 0)'\n"
+                             "set yrange [*:*]\n" + plotTop.str() + "\nunset multiplot\n";
+    return renderPng(dir, "profile", "pngcairo size 900,800 noenhanced", body, warning);
 }
 
 }  // namespace mixload::post

@@ -5,6 +5,10 @@
 // whether a deeper bed, a heap at the feed end or a dam at the weir carries the difference.
 #pragma once
 #include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -30,5 +34,11 @@ struct BedProfile {
 // O-grid's axial stations are the same at every radius). A moving mesh's centres are read at that
 // time. InputError for a file without alpha or with no bulk density in its params.
 BedProfile bedProfile(const store::SnapshotFile& file, size_t timeIndex, double denseAlpha = 0.5);
+
+// profile.dat and profile.png in dir: each labelled profile's mass per layer and dense top against
+// x, on one pair of axes, so two runs (MRF and SM at one point) read side by side. The PNG's path,
+// or nothing and the reason in warning (a plot is a convenience, never a failed command).
+std::optional<std::filesystem::path> plotBedProfiles(const std::vector<std::pair<std::string, BedProfile>>& profiles,
+                                                     const std::filesystem::path& dir, std::string& warning);
 
 }  // namespace mixload::post

@@ -248,9 +248,14 @@ TEST(Snapshots, BedProfileAddsUpToTheMonitorsLoading) {
     EXPECT_NEAR(dense, history[9 * last + 8], 1e-5 * history[9 * last + 8]);
     EXPECT_EQ(p.layers.size(), 32u);  // the 1 cm O-grid's axial stations over 0.3 m
 
-    auto r = runMixload({"snapshots", "profile", file, "--json"});
+    const fs::path dir = scratchDir("bed-profile");
+    auto r = runMixload({"snapshots", "profile", file, file, "--plot", dir.string(), "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
-    EXPECT_NEAR(nlohmann::json::parse(r.out)["loading_kg"].get<double>(), p.loadingKg, 1e-12);
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["profiles"].size(), 2u);
+    EXPECT_NEAR(j["profiles"][1]["loading_kg"].get<double>(), p.loadingKg, 1e-12);
+    EXPECT_TRUE(fs::exists(dir / "profile.dat"));
+    if (j.contains("plot")) EXPECT_GT(fs::file_size(j["plot"].get<std::string>()), 1000u);
     r = runMixload({"snapshots", "profile", file, "--time", "5000"});
     EXPECT_EQ(r.rc, 2);
     EXPECT_NE(r.err.find("time = 5000"), std::string::npos) << r.err;
