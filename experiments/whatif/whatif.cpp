@@ -98,7 +98,14 @@ nlohmann::json whatifReport(const surrogates::Surrogate& m, const std::string& m
     // A loading above a full barrel of the powder cannot happen: such a row says so where it is read.
     csv << "feed_kg_h,rpm,m_base_kg,m_base_lo,m_base_hi,m_new_kg,m_new_lo,m_new_hi,delta_kg,delta_lo,delta_hi,delta_rel,driver,driver_kg,"
            "interaction_kg,in_box,above_full_barrel\n";
-    const auto ci = [](const nlohmann::json& v) { return v.is_null() ? std::string("–") : formatNumber(v[0]) + " – " + formatNumber(v[1]); };
+    // The table is read, not parsed (the CSV keeps every digit): four significant digits, about
+    // a thousandth of the intervals' width.
+    const auto sig = [](double v) {
+        std::ostringstream os;
+        os << std::setprecision(4) << v;
+        return os.str();
+    };
+    const auto ci = [&](const nlohmann::json& v) { return v.is_null() ? std::string("–") : sig(v[0]) + " – " + sig(v[1]); };
     const auto lo = [](const nlohmann::json& v) { return v.is_null() ? NAN : v[0].get<double>(); };
     const auto hi = [](const nlohmann::json& v) { return v.is_null() ? NAN : v[1].get<double>(); };
     double lastRpm = NAN;
@@ -110,11 +117,11 @@ nlohmann::json whatifReport(const surrogates::Surrogate& m, const std::string& m
         const bool inBox = p["base"]["in_training_box"].get<bool>() && p["new"]["in_training_box"].get<bool>();
         const bool overfull = p["base"]["above_full_barrel"].get<bool>() || p["new"]["above_full_barrel"].get<bool>();
         const double feed = p["feed_kg_h"], rpm = p["rpm"];
-        md << "| " << formatNumber(feed) << " | " << formatNumber(rpm) << " | " << formatNumber(p["base"]["loading_kg"]) << " ("
-           << ci(p["base"]["ci95_kg"]) << ") | " << formatNumber(p["new"]["loading_kg"]) << " (" << ci(p["new"]["ci95_kg"]) << ") | "
-           << formatNumber(p["delta_kg"]) << " (" << ci(p["delta_ci95_kg"]) << ") | " << std::showpos << std::fixed << std::setprecision(1)
+        md << "| " << formatNumber(feed) << " | " << formatNumber(rpm) << " | " << sig(p["base"]["loading_kg"]) << " ("
+           << ci(p["base"]["ci95_kg"]) << ") | " << sig(p["new"]["loading_kg"]) << " (" << ci(p["new"]["ci95_kg"]) << ") | "
+           << sig(p["delta_kg"]) << " (" << ci(p["delta_ci95_kg"]) << ") | " << std::showpos << std::fixed << std::setprecision(1)
            << 100 * p["delta_rel"].get<double>() << std::noshowpos << std::defaultfloat << std::setprecision(6) << "% | " << driver << " ("
-           << formatNumber(driverKg) << " kg) | " << (inBox ? "yes" : "no") << (overfull ? "; above a full barrel: not valid" : "") << " |\n";
+           << sig(driverKg) << " kg) | " << (inBox ? "yes" : "no") << (overfull ? "; above a full barrel: not valid" : "") << " |\n";
         csv << feed << ',' << rpm << ',' << p["base"]["loading_kg"].get<double>() << ',' << lo(p["base"]["ci95_kg"]) << ','
             << hi(p["base"]["ci95_kg"]) << ',' << p["new"]["loading_kg"].get<double>() << ',' << lo(p["new"]["ci95_kg"]) << ','
             << hi(p["new"]["ci95_kg"]) << ',' << p["delta_kg"].get<double>() << ',' << lo(p["delta_ci95_kg"]) << ','
