@@ -3,10 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <numeric>
-
-#include <iomanip>
 #include <sstream>
 
 #include "common/atomic_file.hpp"

@@ -60,7 +60,7 @@ void validateData(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, Trend t, c
     }
     if (!trendInputs.empty() && t != Trend::Linear)
         throw std::invalid_argument("kriging: trend inputs need a linear trend");
-    const Eigen::Index p = t == Trend::Constant ? 1 : 1 + (trendInputs.empty() ? X.cols() : static_cast<Eigen::Index>(trendInputs.size()));
+    const Eigen::Index p = trendCount(t, trendInputs, X.cols());
     // One more point than trend coefficients, or sigma^2 is zero by construction.
     if (X.rows() < p + 1)
         throw std::invalid_argument("kriging: " + std::to_string(X.rows()) + " points are too few for a " +
@@ -587,7 +587,7 @@ Kriging Kriging::fromJson(const nlohmann::json& j) {
             m.trendInputs_.push_back(v.get<int>());
         }
     }
-    const int p = m.trend_ == Trend::Constant ? 1 : 1 + (m.trendInputs_.empty() ? d : static_cast<int>(m.trendInputs_.size()));
+    const int p = trendCount(m.trend_, m.trendInputs_, d);
     m.X_ = matrixField(j, "X", n, d);
     m.y_ = vectorField(j, "y", n);
     m.lengthScales_ = vectorField(j, "lengthScales", d);

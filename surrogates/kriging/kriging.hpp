@@ -14,6 +14,10 @@ std::string toString(Trend t);
 // Throw std::invalid_argument on an unknown name.
 Kernel kernelFromString(const std::string& s);
 Trend trendFromString(const std::string& s);
+// Coefficients of a trend over d inputs: 1, or 1 + the linear trend's inputs (all when none are named).
+inline int trendCount(Trend t, const std::vector<int>& trendInputs, long d) {
+    return t == Trend::Constant ? 1 : 1 + (trendInputs.empty() ? static_cast<int>(d) : static_cast<int>(trendInputs.size()));
+}
 
 struct KrigingOptions {
     Kernel kernel = Kernel::Matern52;
@@ -100,9 +104,7 @@ private:
     bool assemble();
     void setInverseLengths();
     void checkWorkspace(const Workspace& ws) const;  // sizes only: a foreign workspace would overrun
-    int trendSize() const {
-        return trend_ == Trend::Constant ? 1 : 1 + (trendInputs_.empty() ? dims() : static_cast<int>(trendInputs_.size()));
-    }
+    int trendSize() const { return trendCount(trend_, trendInputs_, dims()); }
     double correlation(const double* a, const double* b) const;
     void trendBasis(const double* x, double* f) const;
     // Diagonal of Q = C^-1 - C^-1 F (F^T C^-1 F)^-1 F^T C^-1.
