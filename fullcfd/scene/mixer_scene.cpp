@@ -45,6 +45,7 @@ void MixerGeometry::validate() const {
                  true);
     requireRange("impeller.paddle_pitch_deg", pitchDeg, -89.0, 89.0);
     requireRange("impeller.paddle_offset_deg", offsetDeg, -360.0, 360.0);
+    requireRange("impeller.paddle_phase_deg", phaseDeg, -360.0, 360.0);
     requireRange("impeller.end_gap_m", endGap, 0.0, 0.25 * length, false, true);
     requireRange("impeller.end_clearance_m", endClearance, 0.0, 0.25 * length);
     // Successive paddles must not overlap along the shaft, nor poke out of the rotating zone.
@@ -233,7 +234,8 @@ nlohmann::json MixerScene::toJson() const {
             {"steady_flow_tol", steadyFlowTol},
             {"min_time_s", minTime},
             {"gravity_m_s2", gravity}};
-    // Only a non-default limit enters the record, so hashes of existing runs stay valid.
+    // Only a non-default limit or phase enters the record, so hashes of existing runs stay valid.
+    if (g.phaseDeg != 0) j["geometry"]["paddle_phase_deg"] = g.phaseDeg;
     if (maxCourant != MixerScene{}.maxCourant) j["max_courant"] = maxCourant;
     // Sliding-mesh runs before the fragment transport lost powder across the AMI, and those with the
     // pairs' mean pressure coefficient diverged at 500 rpm: a new value keeps their results from
@@ -346,6 +348,7 @@ MixerScene parseMixerScene(const std::string& text, const std::string& origin, c
     g.paddleThickness = imp.number("paddle_thickness_m", g.paddleThickness);
     g.pitchDeg = imp.number("paddle_pitch_deg", g.pitchDeg);
     g.offsetDeg = imp.number("paddle_offset_deg", g.offsetDeg);
+    g.phaseDeg = imp.number("paddle_phase_deg", g.phaseDeg);
     g.endGap = imp.number("end_gap_m", g.endGap);
     g.endClearance = imp.number("end_clearance_m", g.endClearance);
     g.weirChordDeg = weir.number("chord_angle_deg", g.weirChordDeg);

@@ -30,6 +30,9 @@ struct MixerGeometry {
     int paddleCount = 12;
     double tipClearance = 0.003, paddleWidth = 0.015, paddleThickness = 0.004;
     double pitchDeg = 45, offsetDeg = 90;
+    // Angle of the first paddle (0: along +y; gravity is -z). A frozen rotor (MRF) sees the paddles
+    // only where they stand, so its loading can depend on this; the sliding mesh turns them.
+    double phaseDeg = 0;
     double endGap = 0.004, endClearance = 0.003;
     double weirChordDeg = 20;
     int weirCovers = +1;  // +1: the weir closes the +y half of the discharge, -1: the -y half
@@ -50,7 +53,7 @@ struct MixerGeometry {
     double impellerX1() const { return length - endGap - endClearance; }
     double paddleSpacing() const { return (impellerX1() - impellerX0()) / paddleCount; }
     double paddleX(int i) const { return impellerX0() + (i + 0.5) * paddleSpacing(); }
-    double paddleAngleDeg(int i) const { return i * offsetDeg; }
+    double paddleAngleDeg(int i) const { return phaseDeg + i * offsetDeg; }
     // Half the axial extent of one pitched paddle.
     double paddleAxialHalf() const;
     // Volume inside the barrel that the powder can occupy (bore minus shaft and paddles).

@@ -261,3 +261,28 @@ TEST(MixerScene, SlidingMeshRunsTheFragmentTransport) {
     EXPECT_NE(read(dir / "sm/system/controlDict").find("maxCo 0.25;"), std::string::npos);
     std::filesystem::remove_all(dir);
 }
+
+TEST(MixerScene, ThePaddlesPhaseTurnsTheFrozenRotorAndEntersTheHashOnlyWhenSet) {
+    // Runs recorded before the key existed had phase 0 and keep their hashes.
+    const auto base = scene::loadMixerScene("gcm250-v2");
+    EXPECT_FALSE(base.toJson()["geometry"].contains("paddle_phase_deg"));
+    EXPECT_EQ(scene::loadMixerScene("gcm250-v2", {{"impeller.paddle_phase_deg", 0}}).hash(), base.hash());
+    const auto turned = scene::loadMixerScene("gcm250-v2", {{"impeller.paddle_phase_deg", 45}});
+    EXPECT_NE(turned.hash(), base.hash());
+    EXPECT_DOUBLE_EQ(turned.toJson()["geometry"]["paddle_phase_deg"].get<double>(), 45.0);
+    // Every paddle turns by the phase about the axis: same axial position and radius.
+    for (int i = 0; i < base.geometry.paddleCount; ++i) {
+        const auto a = cases::paddleBox(base.geometry, i, base.geometry.paddleThickness).centre;
+        const auto b = cases::paddleBox(turned.geometry, i, base.geometry.paddleThickness).centre;
+        const double phiA = std::atan2(a[2], a[1]), phiB = std::atan2(b[2], b[1]);
+        EXPECT_NEAR(b[0], a[0], 1e-12);
+        EXPECT_NEAR(std::hypot(b[1], b[2]), std::hypot(a[1], a[2]), 1e-12);
+        EXPECT_NEAR(std::remainder(phiB - phiA, 2 * kPi), kPi / 4, 1e-12);
+    }
+    try {
+        scene::loadMixerScene("gcm250-v2", {{"impeller.paddle_phase_deg", 400}});
+        ADD_FAILURE() << "accepted a phase of 400 degrees";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("impeller.paddle_phase_deg"), std::string::npos) << e.what();
+    }
+}
