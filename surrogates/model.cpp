@@ -2,6 +2,7 @@
 #include "model.hpp"
 
 #include <gsl/gsl_cdf.h>
+#include <gsl/gsl_qrng.h>
 
 #include <algorithm>
 #include <cmath>
@@ -88,12 +89,39 @@ std::vector<double> Surrogate::coordinates(const Point& x) const {
     return {z, z + dims()};
 }
 
+namespace {
+// The share of a quasi-random sample of the training runs' own box (the physical inputs' ranges)
+// where the model's mean leaves [0, a full barrel of the point's powder]: a transform that says
+// there is more powder than the barrel holds, or less than none, between its own runs is not
+// admissible, however small its leave-one-out error (which only looks at the runs).
+double nonPhysicalShare(const Surrogate& s, double fullBarrelM3) {
+    constexpr int kSample = 1024;
+    gsl_qrng* q = gsl_qrng_alloc(gsl_qrng_sobol, kInputs);
+    auto ws = s.makeWorkspace();
+    int bad = 0;
+    double u[kInputs];
+    for (int i = 0; i < kSample; ++i) {
+        gsl_qrng_get(q, u);
+        Point x;
+        for (size_t k = 0; k < kInputs; ++k) x[k] = s.boxMin()[k] + u[k] * (s.boxMax()[k] - s.boxMin()[k]);
+        if (!(x[kMuD] > x[kMuS])) continue;  // not a powder the model answers for
+        const double m = s.predict(x, ws).m;
+        if (!(m > 0) || m > x[kRho] * fullBarrelM3) ++bad;
+    }
+    gsl_qrng_free(q);
+    return static_cast<double>(bad) / kSample;
+}
+}  // namespace
+
 Surrogate Surrogate::fit(const std::vector<Row>& train, const FitOptions& o, nlohmann::json provenance) {
     if (o.kind != "rsm" && o.kind != "kriging") throw InputError("kind", o.kind, "rsm or kriging");
     const auto n = static_cast<Eigen::Index>(train.size());
     if (n < 5) throw InputError("training runs", std::to_string(n), "at least 5 finished, steady runs");
     Surrogate best;
     double bestErr = std::numeric_limits<double>::infinity();
+    bool bestAdmissible = false;
+    double bestBad = 0;
+    const double fullBarrelM3 = provenance.is_object() ? provenance.value("full_barrel_m3", 0.0) : 0.0;
     nlohmann::json tried = nlohmann::json::array();
     for (const auto& tf : candidates(o.transform, o.similarity)) {
         Surrogate s;
@@ -197,7 +225,10 @@ Surrogate Surrogate::fit(const std::vector<Row>& train, const FitOptions& o, nlo
             s.loo_[row.id] = {m, lo, hi};
         }
         const double meanErr = stats.mean().get<double>();
-        tried.push_back({{"transform", tf.describe()}, {"loo_mean_rel_error", meanErr}});
+        nlohmann::json t{{"transform", tf.describe()}, {"loo_mean_rel_error", meanErr}};
+        const double bad = fullBarrelM3 > 0 ? nonPhysicalShare(s, fullBarrelM3) : 0.0;
+        if (fullBarrelM3 > 0) t["non_physical_share"] = bad;
+        tried.push_back(t);
         s.validation_ = {{"method", o.kind == "rsm" && o.select
                                         ? "leave-one-out (terms selected anew without each run)"
                                         : "leave-one-out (closed form, hyperparameters and terms fixed)"},
@@ -205,8 +236,15 @@ Surrogate Surrogate::fit(const std::vector<Row>& train, const FitOptions& o, nlo
                          {"mean_rel_error", meanErr},
                          {"max_rel_error", stats.maxJson()},
                          {"coverage95", stats.coverage()}};
-        if (meanErr < bestErr) bestErr = meanErr, best = std::move(s);
+        // An admissible transform beats any that is not; among equals, the leave-one-out error decides.
+        const bool admissible = !(bad > 0);
+        if ((admissible && !bestAdmissible) || (admissible == bestAdmissible && meanErr < bestErr))
+            bestErr = meanErr, bestAdmissible = admissible, bestBad = bad, best = std::move(s);
     }
+    if (!bestAdmissible)
+        best.validation_["non_physical"] =
+            "every transform tried says less than none or more than a full barrel somewhere in its training box; the one "
+            "kept does at " + formatNumber(100 * bestBad) + "% of it: read its answers with care";
     best.validation_["transforms_tried"] = tried;
     best.validation_["transform"] = best.tf_.describe();
     for (const auto& r : train) best.trained_.push_back(r.id);
@@ -361,6 +399,7 @@ Difference Surrogate::predictDifference(const Point& a, const Point& b) const {
 
 std::vector<std::string> Surrogate::warnings() const {
     std::vector<std::string> out;
+    if (validation_.contains("non_physical")) out.push_back(validation_["non_physical"].get<std::string>());
     if (!kriging_) return out;
     // The kriging model numbers its inputs; name them.
     for (auto w : kriging_->warnings()) {
