@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <regex>
 #include <sstream>
 
@@ -90,25 +91,30 @@ std::vector<double> Surrogate::coordinates(const Point& x) const {
 }
 
 namespace {
+// A full barrel of the scene's powder as a volume [m3], from a model's provenance (0: unknown).
+double fullBarrelIn(const nlohmann::json& provenance) {
+    return provenance.is_object() ? provenance.value("full_barrel_m3", 0.0) : 0.0;
+}
+
 // The share of a quasi-random sample of the training runs' own box (the physical inputs' ranges)
 // where the model's mean leaves [0, a full barrel of the point's powder]: a transform that says
 // there is more powder than the barrel holds, or less than none, between its own runs is not
 // admissible, however small its leave-one-out error (which only looks at the runs).
-double nonPhysicalShare(const Surrogate& s, double fullBarrelM3) {
+// s must know its full barrel: its prediction flags a mean above it.
+double nonPhysicalShare(const Surrogate& s) {
     constexpr int kSample = 1024;
-    gsl_qrng* q = gsl_qrng_alloc(gsl_qrng_sobol, kInputs);
+    std::unique_ptr<gsl_qrng, decltype(&gsl_qrng_free)> q(gsl_qrng_alloc(gsl_qrng_sobol, kInputs), gsl_qrng_free);
     auto ws = s.makeWorkspace();
     int bad = 0;
     double u[kInputs];
     for (int i = 0; i < kSample; ++i) {
-        gsl_qrng_get(q, u);
+        gsl_qrng_get(q.get(), u);
         Point x;
         for (size_t k = 0; k < kInputs; ++k) x[k] = s.boxMin()[k] + u[k] * (s.boxMax()[k] - s.boxMin()[k]);
         if (!(x[kMuD] > x[kMuS])) continue;  // not a powder the model answers for
-        const double m = s.predict(x, ws).m;
-        if (!(m > 0) || m > x[kRho] * fullBarrelM3) ++bad;
+        const auto p = s.predict(x, ws);
+        if (!(p.m > 0) || p.overfull) ++bad;
     }
-    gsl_qrng_free(q);
     return static_cast<double>(bad) / kSample;
 }
 }  // namespace
@@ -121,7 +127,7 @@ Surrogate Surrogate::fit(const std::vector<Row>& train, const FitOptions& o, nlo
     double bestErr = std::numeric_limits<double>::infinity();
     bool bestAdmissible = false;
     double bestBad = 0;
-    const double fullBarrelM3 = provenance.is_object() ? provenance.value("full_barrel_m3", 0.0) : 0.0;
+    const double fullBarrelM3 = fullBarrelIn(provenance);
     nlohmann::json tried = nlohmann::json::array();
     for (const auto& tf : candidates(o.transform, o.similarity)) {
         Surrogate s;
@@ -226,7 +232,8 @@ Surrogate Surrogate::fit(const std::vector<Row>& train, const FitOptions& o, nlo
         }
         const double meanErr = stats.mean().get<double>();
         nlohmann::json t{{"transform", tf.describe()}, {"loo_mean_rel_error", meanErr}};
-        const double bad = fullBarrelM3 > 0 ? nonPhysicalShare(s, fullBarrelM3) : 0.0;
+        s.fullBarrelM3_ = fullBarrelM3;
+        const double bad = fullBarrelM3 > 0 ? nonPhysicalShare(s) : 0.0;
         if (fullBarrelM3 > 0) t["non_physical_share"] = bad;
         tried.push_back(t);
         s.validation_ = {{"method", o.kind == "rsm" && o.select
@@ -306,7 +313,7 @@ std::vector<std::string> Surrogate::outsideBox(const Point& x) const {
 }
 
 void Surrogate::setFullBarrel() {
-    fullBarrelM3_ = provenance_.is_object() ? provenance_.value("full_barrel_m3", 0.0) : 0.0;
+    fullBarrelM3_ = fullBarrelIn(provenance_);
 }
 
 Prediction Surrogate::predict(const Point& x, Workspace& ws) const {
