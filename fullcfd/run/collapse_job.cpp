@@ -54,7 +54,7 @@ nlohmann::json runCollapse(const CollapseJob& job) {
     r.label = "collapse a=" + formatNumber(s.aspect);
     // Every process that works on the run counts its time (a campaign stopped at --max-hours
     // resumes it in another), as for the mixer.
-    const auto [solverWall, total] = runSolverCounted(r, t0, meshSeconds);
+    const auto cost = runSolverCounted(r, t0, meshSeconds);
 
     nlohmann::json result = post::collapseResult(s, dir);
     // A collapse that lost powder has no runout to report: refuse it rather than write a result
@@ -70,19 +70,8 @@ nlohmann::json runCollapse(const CollapseJob& job) {
                                   " column lengths of runout)"
                             : "") +
                        "; no result written, the fields are in " + dir.string());
-    result["wall_seconds"] = total["wall_seconds"];
-    result["core_seconds"] = total["core_seconds"];
-    result["slices"] = total["slices"];
-    result["slice_wall_seconds"] = secondsSince(t0);
-    result["solver_wall_seconds"] = solverWall;
-    result["np"] = job.np;
-    result["resumed"] = !fresh;
-    stampProvenance(result, dir, s.hash());
-    const std::string warn = post::plotCollapse(s, dir);
-    result["plot"] = warn.empty() ? (dir / "collapse.png").string() : "";
-    if (!warn.empty()) result["plot_warning"] = warn;
-    writeFileAtomic(dir / "result.json", result.dump(2));
-    if (job.snapshots) addSnapshots(result, dir);
+    recordRunCost(result, cost, t0, job.np, !fresh);
+    finishRun(result, dir, s.hash(), dir / "collapse.png", post::plotCollapse(s, dir), job.snapshots);
     return result;
 }
 

@@ -247,20 +247,13 @@ nlohmann::json runMixer(const MixerJob& job) {
     r.progress = job.progress;
     r.deadline = job.deadline;
     r.label = "mixer " + s.method;
-    const auto [solverWall, total] = runSolverCounted(r, t0, meshSeconds);
+    const auto cost = runSolverCounted(r, t0, meshSeconds);
 
     nlohmann::json result = post::mixerResult(s, dir);
     const auto mesh = nlohmann::json::parse(readFile(dir / "mesh.json"));
     result["cells"] = mesh.value("cells", 0L);
     result["mesh"] = mesh;
-    // Over every process that worked on the run (RunSlices); this process's own share apart.
-    result["wall_seconds"] = total["wall_seconds"];
-    result["core_seconds"] = total["core_seconds"];
-    result["slices"] = total["slices"];
-    result["slice_wall_seconds"] = secondsSince(t0);
-    result["solver_wall_seconds"] = solverWall;
-    result["np"] = job.np;
-    result["resumed"] = !fresh;
+    recordRunCost(result, cost, t0, job.np, !fresh);
     result["start"] = fs::exists(dir / "start.json")
                           ? nlohmann::json::parse(readFile(dir / "start.json"))
                           : nlohmann::json{{"deposit_kg", s.initialLoadingKg}};
@@ -278,12 +271,7 @@ nlohmann::json runMixer(const MixerJob& job) {
         }
     }
     if (job.profile) result["profile"] = post::readRunProfile(dir);
-    stampProvenance(result, dir, s.hash());
-    const std::string warn = post::plotLoading(s, dir);
-    result["plot"] = warn.empty() ? (dir / "loading.png").string() : "";
-    if (!warn.empty()) result["plot_warning"] = warn;
-    writeFileAtomic(dir / "result.json", result.dump(2));
-    if (job.snapshots) addSnapshots(result, dir);
+    finishRun(result, dir, s.hash(), dir / "loading.png", post::plotLoading(s, dir), job.snapshots);
     return result;
 }
 

@@ -75,12 +75,28 @@ void addSnapshots(nlohmann::json& result, const fs::path& dir) {
     writeFileAtomic(dir / "result.json", stored.dump(2));
 }
 
-void stampProvenance(nlohmann::json& result, const fs::path& dir, const std::string& hash) {
+void recordRunCost(nlohmann::json& result, const CountedSolve& cost, std::chrono::steady_clock::time_point t0,
+                   int np, bool resumed) {
+    result["wall_seconds"] = cost.total["wall_seconds"];
+    result["core_seconds"] = cost.total["core_seconds"];
+    result["slices"] = cost.total["slices"];
+    result["slice_wall_seconds"] = secondsSince(t0);
+    result["solver_wall_seconds"] = cost.solverWall;
+    result["np"] = np;
+    result["resumed"] = resumed;
+}
+
+void finishRun(nlohmann::json& result, const fs::path& dir, const std::string& hash, const fs::path& plot,
+               const std::string& plotWarning, bool snapshots) {
     result["run_dir"] = dir.string();
     result["scene_hash"] = hash;
     result["mixload_version"] = kVersion;
     result["git_commit"] = kGitCommit;
     result["openfoam_version"] = MIXLOAD_OPENFOAM_VERSION;
+    result["plot"] = plotWarning.empty() ? plot.string() : "";
+    if (!plotWarning.empty()) result["plot_warning"] = plotWarning;
+    writeFileAtomic(dir / "result.json", result.dump(2));
+    if (snapshots) addSnapshots(result, dir);
 }
 
 namespace {

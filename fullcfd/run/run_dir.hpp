@@ -75,8 +75,15 @@ struct CountedSolve {
 };
 CountedSolve runSolverCounted(const SolverRun& r, std::chrono::steady_clock::time_point t0, double meshSeconds);
 
-// Adds run_dir, scene_hash, mixload_version, git_commit and openfoam_version.
-void stampProvenance(nlohmann::json& result, const std::filesystem::path& dir,
-                     const std::string& hash);
+// Records the run's cost over every process that worked on it (cost.total) and this process's
+// share: wall_seconds, core_seconds, slices, slice_wall_seconds, solver_wall_seconds, np, resumed.
+void recordRunCost(nlohmann::json& result, const CountedSolve& cost, std::chrono::steady_clock::time_point t0,
+                   int np, bool resumed);
+
+// A finished run's last steps, the same for every scene: provenance (run_dir, scene_hash,
+// mixload_version, git_commit, openfoam_version), the plot's path or why there is none,
+// <dir>/result.json written atomically, then the snapshots if asked.
+void finishRun(nlohmann::json& result, const std::filesystem::path& dir, const std::string& hash,
+               const std::filesystem::path& plot, const std::string& plotWarning, bool snapshots);
 
 }  // namespace mixload::run
