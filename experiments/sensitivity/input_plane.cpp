@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iomanip>
 #include <limits>
+#include <map>
 #include <sstream>
 
 #include "common/atomic_file.hpp"
@@ -108,7 +109,9 @@ nlohmann::json inputPlane(const surrogates::Surrogate& model, const std::string&
 
     // Full runs on the plane: every input but the two axes' at the base's value.
     nlohmann::json checks = nlohmann::json::array();
-    std::ostringstream pts;
+    // Runs at the same point of the plane (replicates, or a bed on either of two levels) share one
+    // square and one label listing their loadings, which would otherwise print over each other.
+    std::map<std::pair<double, double>, std::string> squares;
     double sumAbs = 0;
     int inside = 0;
     if (spec.checks) {
@@ -136,7 +139,10 @@ nlohmann::json inputPlane(const surrogates::Surrogate& model, const std::string&
                               {"covered", covered}});
             md << "| " << r.id << " | " << formatNumber(r.x[spec.x.input]) << " | " << formatNumber(r.x[spec.y.input]) << " | "
                << kg(r.m) << " | " << kg(pr.m) << " | " << kg(pr.lo) << " – " << kg(pr.hi) << " | " << pct(err) << " |\n";
-            pts << r.x[spec.x.input] << ' ' << r.x[spec.y.input] << ' ' << std::setprecision(3) << r.m << std::setprecision(6) << '\n';
+            std::ostringstream label;
+            label << std::setprecision(3) << r.m;
+            auto& sq = squares[{r.x[spec.x.input], r.x[spec.y.input]}];
+            sq += (sq.empty() ? "" : ", ") + label.str();
         }
         if (checks.empty()) md << "\n(none of the table's " << spec.checks->rows.size() << " runs lies on the plane)\n";
         else
@@ -148,6 +154,8 @@ nlohmann::json inputPlane(const surrogates::Surrogate& model, const std::string&
     writeFileAtomic(dir / "plane.csv", csv.str());
     writeFileAtomic(dir / "plane.md", md.str());
     writeFileAtomic(dir / "plane-grid.dat", grid.str());
+    std::ostringstream pts;
+    for (const auto& [xy, label] : squares) pts << xy.first << ' ' << xy.second << " \"" << label << "\"\n";
     writeFileAtomic(dir / "plane-checks.dat", pts.str());
     std::ostringstream gp;
     gp << "set title 'M [kg] from " << model.sourceLabel() << "' noenhanced\nset view map\nset pm3d map\n"
