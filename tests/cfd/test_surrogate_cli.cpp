@@ -4,6 +4,7 @@
 // and the shipped model against the shipped campaign, with the figures the README quotes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -340,6 +341,7 @@ TEST(SurrogateCli, PlaneDrawsThePapersFig8) {
     mixload::writeFileAtomic(checks,
                              "scene_hash,mu_s,mu_d,i0,d,rho,feed_kg_h,rpm,loading_kg,steady\n"
                              "on-a,0.25,0.44,0.28,0.00024,400,5,39,0.03,true\n"
+                             "on-a-again,0.25,0.44,0.28,0.00024,400,5,39,0.031,true\n"
                              "on-b,0.35,0.44,0.28,0.00024,300,5,39,0.02,true\n"
                              "off-feed,0.31,0.44,0.28,0.00024,329.84,6,39,0.03,true\n"
                              "unsteady,0.31,0.44,0.28,0.00024,329.84,5,39,0.03,false\n");
@@ -350,9 +352,13 @@ TEST(SurrogateCli, PlaneDrawsThePapersFig8) {
     EXPECT_EQ(j["y"]["input"], "rho");
     EXPECT_EQ(j["grid_points"], 121);  // mu_s 0.2-0.42 stays below mu_d = 0.44
     ASSERT_EQ(j["arrows"].size(), 2u);
-    ASSERT_EQ(j["checks"].size(), 2u);
+    ASSERT_EQ(j["checks"].size(), 3u);
     for (const auto& c : j["checks"]) EXPECT_EQ(c["id"].get<std::string>().substr(0, 3), "on-") << c.dump();
     for (const char* f : {"plane.md", "plane.csv", "plane.png"}) EXPECT_TRUE(fs::exists(dir / "p" / f)) << f;
+    // The two runs at one point are drawn as one square whose label lists both loadings.
+    const std::string squares = mixload::readFile(dir / "p" / "plane-checks.dat");
+    EXPECT_EQ(std::count(squares.begin(), squares.end(), '\n'), 2) << squares;
+    EXPECT_NE(squares.find("\"0.03, 0.031\""), std::string::npos) << squares;
 
     // The first arrow is the paper's first what-if: the same dM as `whatif` gives.
     r = runMixload({"whatif", "--mu-s", "0.31", "--mu-d", "0.44", "--i0", "0.28", "--d", "240e-6", "--rho", "329.84", "--change",
