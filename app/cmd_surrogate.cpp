@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // mixload surrogate fit|info and mixload check.
+#include <algorithm>
 #include <chrono>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 
 #include "campaign/campaign.hpp"
 #include "campaign/campaign_table.hpp"
@@ -28,7 +30,7 @@ struct SurrogateCmd {
     double target = 0.03, noise = 0;
     std::string out = "runs/surrogates/curve";
     unsigned seed = 1;
-    bool noSelect = false, json = false, noRecord = false, similarity = false;
+    bool noSelect = false, json = false, noRecord = false, similarity = false, listRuns = false;
     std::optional<double> threshold;
 };
 
@@ -247,10 +249,41 @@ int info(const SurrogateCmd& o) {
     return 0;
 }
 
+// Every checked run, worst first: which runs a model misses, and where they lie.
+void printRuns(const nlohmann::json& r) {
+    using Judged = std::pair<const nlohmann::json*, const char*>;
+    std::vector<Judged> all;
+    for (const auto& e : r["holdout"]) all.emplace_back(&e, e["in_training_box"].get<bool>() ? "hold-out" : "hold-out, outside the box");
+    for (const auto& e : r["loo"]["runs"]) all.emplace_back(&e, "leave-one-out");
+    std::stable_sort(all.begin(), all.end(), [](const Judged& a, const Judged& b) {
+        return (*a.first)["rel_error"].get<double>() > (*b.first)["rel_error"].get<double>();
+    });
+    const auto num = [](const nlohmann::json& v, int digits) {
+        std::ostringstream s;
+        if (v.is_number()) s << std::fixed << std::setprecision(digits) << v.get<double>();
+        else s << "n/a";
+        return s.str();
+    };
+    int idWidth = 4;
+    for (const auto& [e, how] : all) idWidth = std::max(idWidth, static_cast<int>((*e)["id"].get<std::string>().size()) + 2);
+    std::cout << "  runs, worst first:\n  " << std::left << std::setw(idWidth) << "id" << std::right << std::setw(7) << "rpm"
+              << std::setw(8) << "feed" << std::setw(7) << "mu_s" << std::setw(10) << "M [kg]" << std::setw(10) << "model"
+              << std::setw(20) << "95% interval" << std::setw(10) << "error" << "  judged by\n";
+    for (const auto& [e, how] : all) {
+        const auto& x = (*e)["inputs"];
+        const auto& ci = (*e)["ci95_kg"];
+        std::cout << "  " << std::left << std::setw(idWidth) << (*e)["id"].get<std::string>() << std::right << std::setw(7)
+                  << num(x["rpm"], 1) << std::setw(8) << num(x["feed_kg_h"], 2) << std::setw(7) << num(x["mu_s"], 3)
+                  << std::setw(10) << num((*e)["loading_kg"], 4) << std::setw(10) << num((*e)["predicted_kg"], 4)
+                  << std::setw(20) << (num(ci[0], 4) + " .. " + num(ci[1], 4)) << std::setw(10) << pct((*e)["rel_error"])
+                  << "  " << how << '\n';
+    }
+}
+
 }  // namespace
 
 int runCheck(const std::string& modelPath, const std::string& campaign, const std::string& dir, const std::string& table,
-             std::optional<double> threshold, bool record, bool json, bool quiet) {
+             std::optional<double> threshold, bool record, bool json, bool quiet, bool listRuns) {
     auto m = surrogates::Surrogate::load(modelPath);
     SurrogateCmd o;
     o.campaign = campaign;
@@ -297,6 +330,8 @@ int runCheck(const std::string& modelPath, const std::string& campaign, const st
         record = false;
     }
     if (record) {
+        auto looFigures = r["loo"];
+        looFigures.erase("runs");  // the per-run list is printed, not kept: the history keeps the figures
         m.checks().push_back({{"date_utc", utcNow()},
                               {"source", source},
                               {"n_holdout", r["n_holdout"]},
@@ -304,7 +339,7 @@ int runCheck(const std::string& modelPath, const std::string& campaign, const st
                               {"mean_rel_error_ci90", r["mean_rel_error_ci90"]},
                               {"max_rel_error", r["max_rel_error"]},
                               {"coverage95", r["coverage95"]},
-                              {"loo", r["loo"]},
+                              {"loo", looFigures},
                               {"mixload_version", kVersion},
                               {"git_commit", kGitCommit}});
         m.save(modelPath);
@@ -332,6 +367,7 @@ int runCheck(const std::string& modelPath, const std::string& campaign, const st
             std::cout << "  label noise of these runs (" << r["label_noise"]["replicate_pairs"]
                       << " replicate pairs, campaign noise): one run's scatter " << pct(r["label_noise"]["run_noise"])
                       << ", a floor under any model's error at such points\n";
+        if (listRuns) printRuns(r);
         if (record) std::cout << "  recorded in the model's check history\n";
     }
     if (failed)
@@ -404,11 +440,12 @@ void addSurrogate(CLI::App& app, Action& action) {
     c->add_option("--table", o->table, "CSV of full runs instead of a campaign");
     c->add_option("--threshold", o->threshold, "Exit 1 when the mean hold-out relative error exceeds this (e.g. 0.05)");
     c->add_flag("--no-record", o->noRecord, "Do not append the result to the model's check history");
+    c->add_flag("--runs", o->listRuns, "Also list every run (inputs, M, the model's answer, error), worst first");
     c->add_flag("--json", o->json, "Print JSON");
     c->callback([&action, o] {
         action = [o] {
             return runCheck(o->model.empty() ? defaultModelPath() : o->model, o->campaign, o->dir, o->table, o->threshold,
-                            !o->noRecord, o->json);
+                            !o->noRecord, o->json, false, o->listRuns);
         };
     });
 }

@@ -13,23 +13,34 @@ nlohmann::json checkModel(const Surrogate& model, const Table& runs) {
     ErrorStats hold, inBox, loo;
     nlohmann::json list = nlohmann::json::array();
     auto ws = model.makeWorkspace();
+    nlohmann::json looList = nlohmann::json::array();
+    // One entry per run, with its inputs, so that a user sees which runs a model misses.
+    const auto entry = [](const Row& r, double m, double lo, double hi) {
+        nlohmann::json in;
+        for (int k = 0; k < kInputs; ++k) in[kInputSpecs[k].name] = r.x[k];
+        return nlohmann::json{{"id", r.id},
+                              {"inputs", in},
+                              {"loading_kg", r.m},
+                              {"predicted_kg", m},
+                              {"ci95_kg", {lo, hi}},
+                              {"rel_error", std::abs(m - r.m) / std::abs(r.m)}};
+    };
     for (const auto& r : runs.rows) {
         if (trained.count(r.id)) {
             if (model.loo().contains(r.id)) {
                 const auto& l = model.loo()[r.id];
-                loo.add(r.m, l[0], l[1].is_null() ? NAN : l[1].get<double>(), l[2].is_null() ? NAN : l[2].get<double>());
+                const double lo = l[1].is_null() ? NAN : l[1].get<double>(), hi = l[2].is_null() ? NAN : l[2].get<double>();
+                loo.add(r.m, l[0], lo, hi);
+                looList.push_back(entry(r, l[0], lo, hi));
             }
             continue;
         }
         const auto p = model.predict(r.x, ws);
         hold.add(r.m, p.m, p.lo, p.hi);
         if (p.inBox) inBox.add(r.m, p.m, p.lo, p.hi);
-        list.push_back({{"id", r.id},
-                        {"loading_kg", r.m},
-                        {"predicted_kg", p.m},
-                        {"ci95_kg", {p.lo, p.hi}},
-                        {"rel_error", std::abs(p.m - r.m) / std::abs(r.m)},
-                        {"in_training_box", p.inBox}});
+        auto e = entry(r, p.m, p.lo, p.hi);
+        e["in_training_box"] = p.inBox;
+        list.push_back(std::move(e));
     }
     return {{"n_holdout", hold.n},
             {"mean_rel_error", hold.mean()},
@@ -49,7 +60,8 @@ nlohmann::json checkModel(const Surrogate& model, const Table& runs) {
               {"mean_rel_error", loo.mean()},
               {"mean_rel_error_ci90", loo.meanInterval90()},
               {"max_rel_error", loo.maxJson()},
-              {"coverage95", loo.coverage()}}}};
+              {"coverage95", loo.coverage()},
+              {"runs", looList}}}};
 }
 
 }  // namespace mixload::surrogates

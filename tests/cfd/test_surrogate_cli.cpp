@@ -149,11 +149,38 @@ TEST(SurrogateCli, FitPredictWhatifCheck) {
     for (const char* k : {"mean_rel_error", "max_rel_error", "coverage95"}) EXPECT_TRUE(j[k].is_number()) << k;
     ASSERT_TRUE(j.contains("label_noise"));
     EXPECT_TRUE(j["label_noise"].is_null());  // a table has no replicates to measure it by
+    // Every run is listed with its inputs; the per-run errors average to the printed means.
+    ASSERT_EQ(j["holdout"].size(), 8u);
+    ASSERT_EQ(j["loo"]["runs"].size(), 32u);
+    for (const auto* set : {&j["holdout"], &j["loo"]["runs"]}) {
+        double sum = 0;
+        for (const auto& e : *set) {
+            EXPECT_EQ(e["inputs"].size(), 7u) << e.dump();
+            EXPECT_NEAR(e["rel_error"].get<double>(),
+                        std::abs(e["predicted_kg"].get<double>() - e["loading_kg"].get<double>()) / e["loading_kg"].get<double>(), 1e-12);
+            sum += e["rel_error"].get<double>();
+        }
+        EXPECT_NEAR(sum / static_cast<double>(set->size()),
+                    (set == &j["holdout"] ? j : j["loo"])["mean_rel_error"].get<double>(), 1e-12);
+    }
+    // --runs prints them all, worst first.
+    r = runMixload({"check", "--model", model.string(), "--table", table.string(), "--no-record", "--runs"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    for (const auto& e : j["holdout"]) EXPECT_NE(r.out.find(e["id"].get<std::string>()), std::string::npos) << e["id"];
+    std::string worstId;
+    double worstError = -1;
+    for (const auto* set : {&j["holdout"], &j["loo"]["runs"]})
+        for (const auto& e : *set)
+            if (e["rel_error"].get<double>() > worstError) worstError = e["rel_error"], worstId = e["id"];
+    const auto listed = r.out.substr(r.out.find("worst first"));
+    const auto firstRow = listed.find('\n', listed.find('\n') + 1) + 1;  // after the title and the header
+    EXPECT_EQ(listed.substr(firstRow, worstId.size() + 2), "  " + worstId) << listed;
     r = runMixload({"check", "--model", model.string(), "--table", table.string(), "--threshold", "1e-9"});
     EXPECT_EQ(r.rc, 1);
     EXPECT_NE(r.err.find("exceeds --threshold"), std::string::npos) << r.err;
     const auto history = nlohmann::json::parse(mixload::readFile(model))["checks"];
-    EXPECT_EQ(history.size(), 2u);  // both checks recorded
+    EXPECT_EQ(history.size(), 2u);  // both checks recorded (not the --no-record one), without the per-run lists
+    for (const auto& c : history) EXPECT_FALSE(c["loo"].contains("runs")) << c.dump();
 }
 
 TEST(SurrogateCli, CurveHoldsOutTheLastRunsOrAnotherSetOfRuns) {
