@@ -23,7 +23,7 @@ struct CampaignCmd {
     bool json = false, adaptive = false;
     double depositFactor = 0.5;
     int point = -1;
-    std::string checkModel;
+    std::string checkModel, criterion = "variance";
     std::vector<std::string> warmFrom;
 };
 
@@ -37,7 +37,9 @@ int printCreated(const CampaignCmd& o) {
 }
 
 int printExtended(const CampaignCmd& o) {
-    const auto j = experiments::extendCampaign(o.spec.place, o.spec.n, o.adaptive);
+    const auto j = experiments::extendCampaign(o.spec.place, o.spec.n, o.adaptive,
+                                               o.criterion == "variance" ? experiments::AdaptiveCriterion::Variance
+                                                                         : experiments::AdaptiveCriterion::LooWeighted);
     if (o.json) {
         std::cout << j.dump(2) << '\n';
         return 0;
@@ -45,10 +47,12 @@ int printExtended(const CampaignCmd& o) {
     std::cout << "campaign " << o.spec.place.name << ": " << j["added"] << " points added (" << j["points"] << " in all)\n";
     if (j.contains("adaptive")) {
         const auto& a = j["adaptive"];
-        std::cout << "  where the " << a["model"].get<std::string>() << " is least sure (leave-one-out mean |error| "
+        std::cout << "  where the " << a["model"].get<std::string>() << " is least sure (" << a["criterion"].get<std::string>()
+                  << "; leave-one-out mean |error| "
                   << a["loo_mean_abs_error_log"].get<double>() << " in log, " << a["pending_runs"] << " queued points conditioned on):\n";
         for (const auto& p : a["picks"]) std::cout << "    " << p["params"].dump() << "  predicted " << p["predicted"].get<double>()
-                                                     << ", sd " << p["sd_log"].get<double>() << " in log\n";
+                                                     << ", sd " << p["sd_log"].get<double>() << " in log, weight "
+                                                     << p["loo_weight"].get<double>() << '\n';
     }
     return 0;
 }
@@ -198,9 +202,15 @@ void addCampaign(CLI::App& app, Action& action) {
     auto* xt = camp->add_subcommand("extend", "Add points to a campaign's design without repeating any (Sobol continues; LHS is augmented)");
     xt->add_option("name", o->spec.place.name, "Campaign name")->required();
     xt->add_option("--n", o->spec.n, "Number of points to add")->required();
-    xt->add_flag("--adaptive", o->adaptive,
+    auto* adaptive = xt->add_flag("--adaptive", o->adaptive,
                  "Place the points where a kriging model of the finished runs (log loading of steady runs; collapse: log runout) is least sure, "
                  "given the queued points: one batch per call, e.g. one point per free core");
+    xt->add_option("--criterion", o->criterion,
+                   "With --adaptive: variance (the model's predictive variance) | loo-weighted (the variance times 1 + the "
+                   "squared leave-one-out error of the nearest finished run over its mean: more points where the model misses its runs)")
+        ->check(CLI::IsMember({"variance", "loo-weighted"}))
+        ->needs(adaptive)
+        ->capture_default_str();
     xt->add_option("--dir", o->spec.place.dir, "Where campaigns live")->capture_default_str();
     xt->add_flag("--json", o->json, "Print JSON");
     xt->callback([&action, o] { action = [o] { return printExtended(*o); }; });

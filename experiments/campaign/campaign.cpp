@@ -260,7 +260,7 @@ int sobolPointsOf(const Design& units, int k) {
 // Adds n points without repeating any: the Sobol sequence continues where the campaign stopped;
 // a Latin hypercube is augmented into the strata its points leave free; adaptive points go where
 // a kriging model of the finished runs is least sure.
-nlohmann::json extendCampaign(const CampaignPlace& o, int n, bool adaptive) {
+nlohmann::json extendCampaign(const CampaignPlace& o, int n, bool adaptive, AdaptiveCriterion by) {
     requireRange("n", n, 1, 100000);
     std::unique_ptr<store::Ledger> l;
     const auto c = openCampaign(o, l);
@@ -290,17 +290,18 @@ nlohmann::json extendCampaign(const CampaignPlace& o, int n, bool adaptive) {
         // Candidates: a Sobol set of 256 points per dimension (at least 1024), far along the
         // sequence so that it does not coincide with a Sobol design's own points.
         const int nc = std::max(1024, 256 * k);
-        const auto batch = mostUncertain(done, y, pending, sobol(nc, k, 100000), n);
+        const auto batch = mostUncertain(done, y, pending, sobol(nc, k, 100000), n, by);
         nlohmann::json picks = nlohmann::json::array();
         for (const auto& p : batch.picks) {
             unit.push_back(p.unit);
             const auto x = space.toPhysical(p.unit);
             nlohmann::json params = nlohmann::json::object();
             for (size_t i = 0; i < x.size(); ++i) params[space.params[i].name] = x[i];
-            picks.push_back({{"params", params}, {"predicted", std::exp(p.mean)}, {"sd_log", p.sd}});
+            picks.push_back({{"params", params}, {"predicted", std::exp(p.mean)}, {"sd_log", p.sd}, {"loo_weight", p.weight}});
         }
         out["adaptive"] = {{"quantity", quantity},
                            {"model", "kriging of log " + std::string(quantity) + " on " + std::to_string(done.size()) + " finished runs"},
+                           {"criterion", by == AdaptiveCriterion::Variance ? "variance" : "loo-weighted"},
                            {"finished_runs", done.size()},
                            {"pending_runs", pending.size()},
                            {"loo_mean_abs_error_log", batch.looMeanAbsError},

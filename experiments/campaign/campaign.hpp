@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "doe/adaptive.hpp"
 #include "scene/collapse_scene.hpp"
 #include "scene/mixer_scene.hpp"
 #include "store/ledger.hpp"
@@ -60,8 +61,10 @@ nlohmann::json createCampaign(const CampaignSpec& spec);
 // Adds n points without repeating any: the Sobol sequence continues where the campaign stopped; a
 // Latin hypercube is augmented into the strata its points leave free. adaptive: the n points go
 // where a kriging model of the finished runs' log quantity (mixer: loading_kg of steady runs;
-// collapse: runout_star) is least sure, given the points already queued (doe/adaptive).
-nlohmann::json extendCampaign(const CampaignPlace& place, int n, bool adaptive = false);
+// collapse: runout_star) is least sure, given the points already queued (doe/adaptive), by the
+// model's variance alone or weighted by its leave-one-out errors nearby.
+nlohmann::json extendCampaign(const CampaignPlace& place, int n, bool adaptive = false,
+                              AdaptiveCriterion by = AdaptiveCriterion::Variance);
 // Mixer campaigns: n finished, steady design points spread over the design (farthest-point), each
 // queued again from a deposit of depositFactor times its loading. Their two results measure the
 // label noise of the steady test (campaignNoise). Throws InputError with too few such points.

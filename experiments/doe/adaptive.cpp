@@ -22,7 +22,7 @@ Eigen::MatrixXd matrixOf(const Design& d, int k) {
 }  // namespace
 
 AdaptiveBatch mostUncertain(const Design& done, const std::vector<double>& y, const Design& pending,
-                            const Design& candidates, int n) {
+                            const Design& candidates, int n, AdaptiveCriterion by) {
     if (done.size() < 5) throw InputError("finished runs", std::to_string(done.size()), "at least 5 to fit a model that can say where it is unsure");
     if (candidates.empty()) throw InputError("candidates", "0", "at least one");
     const int k = static_cast<int>(done.front().size());
@@ -30,7 +30,24 @@ AdaptiveBatch mostUncertain(const Design& done, const std::vector<double>& y, co
     const Eigen::VectorXd Y = Eigen::Map<const Eigen::VectorXd>(y.data(), static_cast<Eigen::Index>(y.size()));
     const auto model = surrogates::Kriging::fit(X, Y, {});
     AdaptiveBatch out;
-    out.looMeanAbsError = model.looResiduals().cwiseAbs().mean();
+    const Eigen::VectorXd loo = model.looResiduals();
+    out.looMeanAbsError = loo.cwiseAbs().mean();
+    std::vector<double> weight(candidates.size(), 1.0);
+    if (by == AdaptiveCriterion::LooWeighted && loo.squaredNorm() > 0) {
+        const double meanSq = loo.squaredNorm() / static_cast<double>(loo.size());
+        const Eigen::VectorXd& ell = model.lengthScales();
+        for (size_t c = 0; c < candidates.size(); ++c) {
+            double nearest = INFINITY;
+            for (size_t i = 0; i < done.size(); ++i) {
+                double d2 = 0;
+                for (int j = 0; j < k; ++j) {
+                    const double t = (candidates[c][static_cast<size_t>(j)] - done[i][static_cast<size_t>(j)]) / ell(j);
+                    d2 += t * t;
+                }
+                if (d2 < nearest) nearest = d2, weight[c] = 1.0 + loo(static_cast<Eigen::Index>(i)) * loo(static_cast<Eigen::Index>(i)) / meanSq;
+            }
+        }
+    }
 
     // The conditioning set grows by the pending points and then by each pick; the length scales
     // stay those fitted to the finished runs. Points are conditioned on as exact (a jitter instead
@@ -61,18 +78,19 @@ AdaptiveBatch mostUncertain(const Design& done, const std::vector<double>& y, co
             surrogates::Kriging::withHyperparameters(C, V, model.kernel(), model.trend(), model.lengthScales(), 1e-8,
                                                      model.trendInputs());
         auto bws = believer.makeWorkspace();
-        double best = -1;
+        double best = -1, bestVar = 0, maxVar = 0;
         size_t at = 0;
         for (size_t c = 0; c < candidates.size(); ++c) {
             if (taken[c]) continue;
             double mean = 0, var = 0;
             believer.predict(candidates[c].data(), bws, mean, var);
-            if (var > best) best = var, at = c;
+            maxVar = std::max(maxVar, var);
+            if (var * weight[c] > best) best = var * weight[c], bestVar = var, at = c;
         }
         if (best < 0) break;  // every candidate taken
-        if (i == 0) out.maxSdBefore = std::sqrt(best);
+        if (i == 0) out.maxSdBefore = std::sqrt(maxVar);
         taken[at] = true;
-        AdaptivePick pick{candidates[at], std::sqrt(best), predictMean(candidates[at])};
+        AdaptivePick pick{candidates[at], std::sqrt(bestVar), predictMean(candidates[at]), weight[at]};
         condition(pick.unit, pick.mean);
         out.picks.push_back(std::move(pick));
     }

@@ -4,6 +4,12 @@
 // queued or running) is conditioned on before the next is chosen, so a batch spreads out instead
 // of piling into one gap. The predictive variance does not depend on the values at those points,
 // only on where they are, so nothing has to be guessed for them.
+//
+// LooWeighted multiplies that variance by 1 + e_j^2 / mean(e^2), where e_j is the leave-one-out
+// residual of the finished run nearest to the candidate (in the model's length scales): a model
+// that misses its own runs somewhere (a regime boundary, a step) is less sure near them than its
+// variance says, which depends only on where the runs are. Picks still lower the variance around
+// them, so a batch spreads out as before.
 #pragma once
 #include <vector>
 
@@ -13,11 +19,14 @@
 
 namespace mixload::experiments {
 
+enum class AdaptiveCriterion { Variance, LooWeighted };
+
 struct AdaptivePick {
     std::vector<double> unit;  // the point, unit-cube coordinates
     double sd = 0;             // the model's predictive standard deviation there when it was chosen (every
                                // point so far taken as exact; the process variance fitted to the runs)
     double mean = 0;           // the model's prediction there
+    double weight = 1;         // the criterion's factor on the variance there (1 for Variance)
 };
 
 struct AdaptiveBatch {
@@ -30,6 +39,6 @@ struct AdaptiveBatch {
 // candidates: where a new point may go (e.g. a Sobol set). Throws InputError with fewer than 5
 // finished runs or an empty candidate set.
 AdaptiveBatch mostUncertain(const Design& done, const std::vector<double>& y, const Design& pending,
-                            const Design& candidates, int n);
+                            const Design& candidates, int n, AdaptiveCriterion by = AdaptiveCriterion::Variance);
 
 }  // namespace mixload::experiments

@@ -224,3 +224,32 @@ TEST(Sensitivity, SobolIndicesOfTheIshigamiFunction) {
     EXPECT_THROW(sobolIndices(3, ishigami, 10), mixload::InputError);
     EXPECT_THROW(sobolIndices(2, [](const std::vector<double>&) { return 1.0; }, 128), mixload::InputError);
 }
+
+// A step the runs straddle: the model misses the runs beside it (large leave-one-out errors) while
+// its variance, which depends only on where runs are, is as large in every gap. loo-weighted puts
+// the next points beside the step; the variance alone does not prefer it.
+TEST(Doe, LooWeightedPointsGoWhereTheModelMissesItsRuns) {
+    using namespace mixload::experiments;
+    Design done;
+    std::vector<double> y;
+    for (int i = 0; i <= 10; ++i) {
+        const double x = i / 10.0;
+        done.push_back({x});
+        y.push_back(x < 0.62 ? 0.0 : 3.0);  // a log loading that jumps by a factor of 20 across 0.62
+    }
+    Design candidates;
+    for (int i = 0; i <= 400; ++i) candidates.push_back({i / 400.0});
+    const auto weighted = mostUncertain(done, y, {}, candidates, 2, AdaptiveCriterion::LooWeighted);
+    ASSERT_EQ(weighted.picks.size(), 2u);
+    for (const auto& p : weighted.picks) {
+        EXPECT_GT(p.unit[0], 0.5) << "beside the step";
+        EXPECT_LT(p.unit[0], 0.8) << "beside the step";
+        EXPECT_GT(p.weight, 1.5);
+    }
+    EXPECT_GT(std::abs(weighted.picks[0].unit[0] - weighted.picks[1].unit[0]), 0.02) << "a batch spreads out";
+    const auto plain = mostUncertain(done, y, {}, candidates, 1);
+    EXPECT_EQ(plain.picks[0].weight, 1.0);
+    EXPECT_NEAR(plain.maxSdBefore, weighted.maxSdBefore, 1e-12) << "the same model before either batch";
+    // The variance's largest gap is not the step's: the ends of the range, half a gap from one run.
+    EXPECT_TRUE(plain.picks[0].unit[0] < 0.5 || plain.picks[0].unit[0] > 0.8) << plain.picks[0].unit[0];
+}
