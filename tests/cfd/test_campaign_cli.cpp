@@ -350,6 +350,22 @@ TEST(CampaignCli, AdaptiveExtensionGoesWhereTheFinishedRunsSayLeast) {
     const auto again = nlohmann::json::parse(r.out)["adaptive"];
     EXPECT_EQ(again["pending_runs"], 2);
     EXPECT_TRUE(aspects.insert(again["picks"][0]["params"]["aspect"].get<double>()).second);
+    EXPECT_EQ(again["criterion"], "variance");
+    // The loo-weighted criterion through the CLI: the weight is recorded; without --adaptive, or
+    // with an unknown criterion, nothing is added (exit 2).
+    r = runMixload({"campaign", "extend", "a", "--n", "1", "--adaptive", "--criterion", "loo-weighted", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto weighted = nlohmann::json::parse(r.out)["adaptive"];
+    EXPECT_EQ(weighted["criterion"], "loo-weighted");
+    EXPECT_GE(weighted["picks"][0]["loo_weight"].get<double>(), 1.0);
+    for (const std::vector<std::string>& bad : {std::vector<std::string>{"--criterion", "loo-weighted"},
+                                                std::vector<std::string>{"--adaptive", "--criterion", "nearest"}}) {
+        std::vector<std::string> args{"campaign", "extend", "a", "--n", "1", "--dir", dir.string()};
+        args.insert(args.end(), bad.begin(), bad.end());
+        EXPECT_EQ(runMixload(args).rc, 2) << bad.back();
+    }
+    r = runMixload({"campaign", "status", "a", "--dir", dir.string(), "--json"});
+    EXPECT_EQ(nlohmann::json::parse(r.out)["points"], 9);
 }
 
 TEST(CampaignCli, ReadmeCommandRecreatesTheShippedMixerCampaignsScenes) {
