@@ -169,7 +169,9 @@ nlohmann::json inputPlane(const surrogates::Surrogate& model, const std::string&
     for (const auto& a : spec.arrows)
         gp << "set arrow from " << spec.base[spec.x.input] << ',' << spec.base[spec.y.input] << ",0 to " << a.to[spec.x.input] << ','
            << a.to[spec.y.input] << ",0 front lw 2 lc rgb 'black'\nset label " << tag++ << " '" << a.label << "' at "
-           << a.to[spec.x.input] << ',' << a.to[spec.y.input] << " offset " << (tag % 2 ? "-1,1.2" : "0.5,0.6") << " front noenhanced\n";
+           // Below the tip, one row further down per arrow: above it sits the label of a full run
+           // at that point, and two tips at one height would print their labels over each other.
+           << a.to[spec.x.input] << ',' << a.to[spec.y.input] << " offset 0.5," << -1.2 * (tag - 2) << " front noenhanced\n";
     gp << "splot 'plane-grid.dat' using 1:2:3 with pm3d lw 1";
     if (!checks.empty())
         gp << ", 'plane-checks.dat' using 1:2:(0) with points pt 5 ps 1.3 lc rgb 'white', "
