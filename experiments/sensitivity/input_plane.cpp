@@ -165,13 +165,15 @@ nlohmann::json inputPlane(const surrogates::Surrogate& model, const std::string&
        << (predicted && mMax > mMin ? "set cbrange [" + std::to_string(mMin) + ":" + std::to_string(mMax) + "]\n" : std::string())
        << (checks.empty() ? "" : "set xlabel offset 0,0.3\nset label 99 'white squares: full runs on the plane, their M [kg]' at graph 0,-0.13 noenhanced\n")
        << "set label 1 'base' at " << spec.base[spec.x.input] << ',' << spec.base[spec.y.input] << " point pt 7 ps 1.2 offset 0.5,-0.8 front\n";
-    int tag = 2;
-    for (const auto& a : spec.arrows)
+    // Each arrow's label sits below its tip, one row further down per arrow: above the tip sits the
+    // label of a full run at that point, and two tips at one height would print over each other.
+    for (size_t i = 0; i < spec.arrows.size(); ++i) {
+        const auto& a = spec.arrows[i];
         gp << "set arrow from " << spec.base[spec.x.input] << ',' << spec.base[spec.y.input] << ",0 to " << a.to[spec.x.input] << ','
-           << a.to[spec.y.input] << ",0 front lw 2 lc rgb 'black'\nset label " << tag++ << " '" << a.label << "' at "
-           // Below the tip, one row further down per arrow: above it sits the label of a full run
-           // at that point, and two tips at one height would print their labels over each other.
-           << a.to[spec.x.input] << ',' << a.to[spec.y.input] << " offset 0.5," << -1.2 * (tag - 2) << " front noenhanced\n";
+           << a.to[spec.y.input] << ",0 front lw 2 lc rgb 'black'\nset label " << i + 2 << " '" << a.label << "' at "
+           << a.to[spec.x.input] << ',' << a.to[spec.y.input] << " offset 0.5," << -1.2 * static_cast<double>(i + 1)
+           << " front noenhanced\n";
+    }
     gp << "splot 'plane-grid.dat' using 1:2:3 with pm3d lw 1";
     if (!checks.empty())
         gp << ", 'plane-checks.dat' using 1:2:(0) with points pt 5 ps 1.3 lc rgb 'white', "

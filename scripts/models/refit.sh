@@ -26,16 +26,16 @@ holdout=data/campaigns/mixer-v2-holdout.csv
 "$mixload" surrogate fit --table "$table" --kind rsm --similarity --transform auto -o "$rsm"
 
 # plane and whatif write their data and scripts beside the pictures; the repository keeps the
-# pictures and tables.
+# pictures and tables. keep SRC DST FILE...: each file into DST whole (copy, then rename).
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+keep() { local src=$1 dst=$2; shift 2; for f in "$@"; do cp "$src/$f" "$dst/$f.new" && mv "$dst/$f.new" "$dst/$f"; done; }
 "$mixload" plane --model "$krig" --checks docs/studies/fig8/fullruns-1cm.csv --out "$tmp/fig8"
-for f in plane.md plane.png; do cp "$tmp/fig8/$f" docs/studies/fig8/$f.new && mv docs/studies/fig8/$f.new docs/studies/fig8/$f; done
+keep "$tmp/fig8" docs/studies/fig8 plane.md plane.png
 
 base=(--mu-s 0.31 --mu-d 0.44 --i0 0.28 --d 240e-6 --rho 329.84)
 for mus in 10 32; do
-  dst=docs/studies/whatif-paper/rho+50-mu_s-$mus
   "$mixload" whatif --model "$krig" "${base[@]}" --change rho=+50% --change mu_s=-$mus% --report "$tmp/$mus"
-  for f in report.csv report.md report.png; do cp "$tmp/$mus/$f" "$dst/$f.new" && mv "$dst/$f.new" "$dst/$f"; done
+  keep "$tmp/$mus" docs/studies/whatif-paper/rho+50-mu_s-$mus report.csv report.md report.png
 done
 
 for model in "$krig" "$rsm"; do
