@@ -60,7 +60,7 @@ struct FormulationCmd {
     std::vector<std::string> variants;
     std::string out = "runs/studies/formulation";
     std::string runs;
-    std::string warmFrom;
+    std::string warmFrom, model;
     int jobs = 1, np = 1;
     bool json = false;
 };
@@ -305,6 +305,9 @@ void addStudy(CLI::App& app, Action& action) {
     fm->add_option("--warm-from", fo->warmFrom,
                    "Start every run from this mixer run directory's latest fields (e.g. a converged reference) "
                    "instead of the scene's deposit");
+    fm->add_option("--model", fo->model,
+                   "Also draw this surrogate's Fig. 7 curves beside the full runs' (e.g. data/models/mixer-loading-kriging.json; "
+                   "drawn even before the reference is steady)");
     fm->add_flag("--json", fo->json, "Print JSON");
     fm->callback([&action, fo] {
         action = [fo] {
@@ -321,6 +324,10 @@ void addStudy(CLI::App& app, Action& action) {
             st.jobs = fo->jobs;
             st.np = fo->np;
             st.warmFrom = fo->warmFrom;
+            if (!fo->model.empty()) {
+                st.model = surrogates::Surrogate::load(fo->model);  // refused before any run
+                st.modelPath = fo->model;
+            }
             st.progress = !fo->json;
             const auto r = experiments::runFormulationStudy(st);
             if (fo->json) std::cout << r.dump(2) << '\n';

@@ -6,10 +6,13 @@
 
 namespace mixload::experiments {
 
-surrogates::Point mixerInputs(const nlohmann::json& base, const nlohmann::json& params) {
-    const auto s = mixerSceneFor(base, params);
+surrogates::Point sceneInputs(const scene::MixerScene& s) {
     return {s.material.muS, s.material.muD, s.material.I0, s.material.grainDiameter, s.material.bulkDensity(),
             s.feedKgH,      s.rpm};
+}
+
+surrogates::Point mixerInputs(const nlohmann::json& base, const nlohmann::json& params) {
+    return sceneInputs(mixerSceneFor(base, params));
 }
 
 std::optional<double> openBarrelVolume(const nlohmann::json& base) {

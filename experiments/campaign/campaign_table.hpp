@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "inputs.hpp"
+#include "scene/mixer_scene.hpp"
 #include "table.hpp"
 
 namespace mixload::experiments {
@@ -17,6 +18,8 @@ namespace mixload::experiments {
 // with the point's parameters applied), so that the surrogates' table and the POD regression see a
 // run alike.
 surrogates::Point mixerInputs(const nlohmann::json& base, const nlohmann::json& params);
+// The same seven inputs read off a scene.
+surrogates::Point sceneInputs(const scene::MixerScene& s);
 
 // The open volume of a mixer campaign's barrel [m3] (bore minus shaft and paddles): a full barrel
 // of a powder is its bulk density times it, the bound no loading exceeds. Nothing for a base that

@@ -3,11 +3,14 @@
 
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <sstream>
+#include <utility>
 
 #include "common/atomic_file.hpp"
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
+#include "campaign/campaign_table.hpp"
 #include "run/mixer_job.hpp"
 #include "studies/mixer_study.hpp"
 
@@ -41,6 +44,22 @@ std::string describe(const FormulationVariant& v) {
     return os.str();
 }
 
+// The paper's Fig. 7: M rises with each parameter but I0.
+int paperSign(const std::string& k) { return k == "i0" ? -1 : +1; }
+
+// Least-squares line y = intercept + slope x: {slope, intercept}.
+std::pair<double, double> fitLine(const std::vector<std::pair<double, double>>& pts) {
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (const auto& [x, y] : pts) sx += x, sy += y, sxx += x * x, sxy += x * y;
+    const double n = static_cast<double>(pts.size());
+    const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+    return {slope, (sy - slope * sx) / n};
+}
+
+std::string signVerdict(double slope, int sign) {
+    return sign == 0 ? "no expectation" : (slope > 0 ? 1 : -1) == sign ? "same sign" : "opposite sign";
+}
+
 }  // namespace
 
 std::vector<FormulationVariant> formulationPreset(const std::string& name) {
@@ -55,7 +74,7 @@ std::vector<FormulationVariant> formulationPreset(const std::string& name) {
         // parameter, as the paper does; fig7-signs the two at +-20% (the same runs).
         const std::vector<int> steps = name == "fig7" ? std::vector<int>{-30, -20, -10, 10, 20, 30} : std::vector<int>{-20, 20};
         for (const char* k : kKeys) {
-            const int sign = std::string(k) == "i0" ? -1 : +1;
+            const int sign = paperSign(k);
             for (int p : steps)
                 out.push_back({std::string(k) + (p > 0 ? "+" : "") + std::to_string(p), {{k, 1 + p / 100.0}}, std::nullopt,
                                p > 0 ? sign : -sign});
@@ -116,52 +135,128 @@ nlohmann::json fig7Fit(const nlohmann::json& rows) {
             pts.push_back({f, 1 + r["change_model"].get<double>()});
         }
         if (pts.size() < 2) continue;
-        double sx = 0, sy = 0, sxx = 0, sxy = 0;
-        for (const auto& [x, y] : pts) sx += x, sy += y, sxx += x * x, sxy += x * y;
-        const double n = static_cast<double>(pts.size());
-        const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx), icpt = (sy - slope * sx) / n;
-        const std::string verdict = sign == 0 ? "no expectation" : (slope > 0 ? 1 : -1) == sign ? "same sign" : "opposite sign";
+        const auto [slope, icpt] = fitLine(pts);
         params.push_back({{"parameter", k}, {"steady_runs", pts.size() - 1}, {"slope", slope}, {"intercept", icpt},
-                          {"sign_paper", sign}, {"verdict", verdict}, {"points", pts}});
+                          {"sign_paper", sign}, {"verdict", signVerdict(slope, sign)}, {"points", pts}});
     }
     return params;
+}
+
+nlohmann::json fig7ModelCurves(const surrogates::Surrogate& model, const scene::MixerScene& reference) {
+    auto ws = model.makeWorkspace();
+    const double m0 = model.predict(sceneInputs(reference), ws).m;
+    nlohmann::json params = nlohmann::json::array();
+    for (const char* k : kKeys) {
+        std::vector<std::pair<double, double>> pts;
+        std::vector<double> outside;
+        nlohmann::json row{{"parameter", k}, {"sign_paper", paperSign(k)}};
+        for (int step = 70; step <= 130; ++step) {
+            const double f = step / 100.0;
+            scene::MixerScene s;
+            try {
+                s = applyVariant(reference, {k, {{k, f}}, std::nullopt, 0});
+            } catch (const InputError&) {
+                continue;  // e.g. mu_d scaled below mu_s
+            }
+            const auto p = model.predict(sceneInputs(s), ws);
+            pts.push_back({f, p.m / m0});
+            if (!p.inBox) outside.push_back(f);
+            if (step == 80) row["at_0.8"] = p.m / m0;
+            if (step == 120) row["at_1.2"] = p.m / m0;
+        }
+        if (pts.size() < 2) continue;
+        const auto [slope, icpt] = fitLine(pts);
+        row["slope"] = slope;
+        row["intercept"] = icpt;
+        row["verdict"] = signVerdict(slope, paperSign(k));
+        row["outside_training_box"] = outside;
+        row["points"] = pts;
+        params.push_back(row);
+    }
+    return {{"reference_kg", m0}, {"source", model.sourceLabel()}, {"parameters", params}};
 }
 
 namespace {
 
 // The paper's Fig. 7 from the study's one-parameter variants: per parameter, M / M_reference
 // against the parameter / its reference value (the reference as the point (1, 1)), a least-squares
-// line through the points, its slope (the elasticity of M) and its sign against the paper's.
-nlohmann::json writeFig7(const fs::path& out, const nlohmann::json& rows, double m0) {
-    const nlohmann::json params = fig7Fit(rows);
-    nlohmann::json j{{"parameters", params}, {"reference_loading_kg", m0}};
-    if (params.empty()) return j;
-    std::ostringstream md, csv, dat, gp;
-    md << "| parameter | steady runs | slope d(M/M0)/d(x/x0) | paper's sign | verdict |\n|---|---|---|---|---|\n";
-    csv << "parameter,factor,m_over_m0\n";
+// line through the points, its slope (the elasticity of M) and its sign against the paper's; with
+// a model, its curves (dashed) beside them. m0 is NaN while the reference has no steady verdict.
+nlohmann::json writeFig7(const fs::path& out, const nlohmann::json& rows, double m0, const nlohmann::json& model) {
+    const nlohmann::json params = std::isnan(m0) ? nlohmann::json::array() : fig7Fit(rows);
+    nlohmann::json j{{"parameters", params}, {"reference_loading_kg", std::isnan(m0) ? nlohmann::json() : nlohmann::json(m0)}};
+    if (!model.is_null()) j["model"] = model;
+    if (params.empty() && model.is_null()) return j;
+    const auto entry = [](const nlohmann::json& list, const std::string& k) -> const nlohmann::json* {
+        for (const auto& p : list)
+            if (p["parameter"] == k) return &p;
+        return nullptr;
+    };
+    const auto num = [](double v) { return formatNumber(std::round(v * 1000) / 1000); };
+    std::ostringstream md, csv, dat, mdat, gp;
+    md << "| parameter | steady full runs | slope d(M/M0)/d(x/x0), full runs | slope, model | model M/M0 at x0.8, x1.2 "
+          "| paper | full runs against the paper | model against the paper |\n|---|---|---|---|---|---|---|---|\n";
+    csv << "parameter,factor,m_over_m0,source\n";
     gp << "set terminal pngcairo size 900,600 noenhanced\nset output 'fig7.png'\nset grid\nset key top left\n"
        << "set xlabel 'parameter / its reference value'\nset ylabel 'M / M_reference'\n"
-       << "set title 'Fig. 7 on the calibrated scene: full runs, linear fit per parameter'\nplot ";
-    for (size_t b = 0; b < params.size(); ++b) {
-        const auto& p = params[b];
-        const std::string k = p["parameter"];
-        const int sign = p["sign_paper"];
-        md << "| " << k << " | " << p["steady_runs"] << " | " << std::round(p["slope"].get<double>() * 1000) / 1000 << " | "
-           << (sign > 0 ? "rises" : sign < 0 ? "falls" : "-") << " | " << p["verdict"].get<std::string>() << " |\n";
-        for (const auto& xy : p["points"]) {
-            csv << k << ',' << xy[0] << ',' << xy[1] << '\n';
-            dat << xy[0] << ' ' << xy[1] << '\n';
+       << "set title 'Fig. 7 on the calibrated scene: full runs (points, fitted line)"
+       << (model.is_null() ? "" : ", surrogate (dashed)") << "'\nplot ";
+    int runBlock = 0, modelBlock = 0;
+    bool firstPlot = true;
+    std::vector<std::string> outsideNotes;
+    for (size_t b = 0; b < std::size(kKeys); ++b) {
+        const std::string k = kKeys[b];
+        const nlohmann::json* p = entry(params, k);
+        const nlohmann::json* q = model.is_null() ? nullptr : entry(model["parameters"], k);
+        if (!p && !q) continue;
+        const int sign = paperSign(k);
+        md << "| " << k << " | " << (p ? (*p)["steady_runs"].get<int>() : 0) << " | " << (p ? num((*p)["slope"]) : "-") << " | "
+           << (q ? num((*q)["slope"]) : "-") << " | "
+           << (q && q->contains("at_0.8") && q->contains("at_1.2") ? num((*q)["at_0.8"]) + ", " + num((*q)["at_1.2"]) : "-")
+           << " | " << (sign > 0 ? "rises" : "falls") << " | " << (p ? (*p)["verdict"].get<std::string>() : "-") << " | "
+           << (q ? (*q)["verdict"].get<std::string>() : "-") << " |\n";
+        const auto sep = [&] { return std::exchange(firstPlot, false) ? "" : ", "; };
+        if (p) {
+            for (const auto& xy : (*p)["points"]) {
+                csv << k << ',' << xy[0] << ',' << xy[1] << ",full run\n";
+                dat << xy[0] << ' ' << xy[1] << '\n';
+            }
+            dat << "\n\n";
+            gp << sep() << "'fig7.dat' index " << runBlock++ << " with points pt " << 5 + 2 * b << " ps 1.5 lc " << b + 1
+               << " title '" << k << "', " << (*p)["intercept"].get<double>() << " + " << (*p)["slope"].get<double>()
+               << " * x with lines lc " << b + 1 << " notitle";
         }
-        dat << "\n\n";
-        gp << (b ? ", " : "") << "'fig7.dat' index " << b << " with points pt " << 5 + 2 * b << " ps 1.5 lc " << b + 1
-           << " title '" << k << "', " << p["intercept"].get<double>() << " + " << p["slope"].get<double>()
-           << " * x with lines lc " << b + 1 << " notitle";
+        if (q) {
+            for (const auto& xy : (*q)["points"]) {
+                csv << k << ',' << xy[0] << ',' << xy[1] << ",model\n";
+                mdat << xy[0] << ' ' << xy[1] << '\n';
+            }
+            mdat << "\n\n";
+            gp << sep() << "'fig7-model.dat' index " << modelBlock++ << " with lines dt 2 lw 2 lc " << b + 1 << " title '" << k
+               << ", model'";
+            if (!(*q)["outside_training_box"].empty())
+                outsideNotes.push_back(k + " at x" + num((*q)["outside_training_box"].front()) + "..x" +
+                                       num((*q)["outside_training_box"].back()));
+        }
     }
-    md << "\nM0 = " << m0 << " kg. A parameter's line is fitted through the reference and its steady variants; the "
-          "paper's Fig. 7 has M rising with mu_s, mu_d, d and rho and falling with I0.\n";
+    md << "\n";
+    if (!std::isnan(m0))
+        md << "M0 = " << m0 << " kg (the reference's full run). A parameter's line is fitted through the reference and its "
+              "steady variants. ";
+    if (!model.is_null()) {
+        md << "The model (" << model["source"].get<std::string>() << ") is drawn over its own M at the reference, "
+           << formatNumber(model["reference_kg"].get<double>()) << " kg, with each parameter alone scaled by 0.7-1.3";
+        if (!outsideNotes.empty()) {
+            md << "; it leaves its training box for";
+            for (const auto& n : outsideNotes) md << ' ' << n << (&n == &outsideNotes.back() ? "" : ",");
+        }
+        md << ". ";
+    }
+    md << "The paper's Fig. 7 has M rising with mu_s, mu_d, d and rho and falling with I0.\n";
     writeFileAtomic(out / "fig7.md", md.str());
     writeFileAtomic(out / "fig7.csv", csv.str());
     writeFileAtomic(out / "fig7.dat", dat.str());
+    writeFileAtomic(out / "fig7-model.dat", mdat.str());
     gp << '\n';
     const std::string warn = runGnuplot(out, "fig7.gp", gp.str());
     j["table_md"] = (out / "fig7.md").string();
@@ -264,7 +359,9 @@ nlohmann::json runFormulationStudy(const FormulationStudy& study) {
     for (auto it = ref.begin(); it != ref.end(); ++it)
         if (it.key() != "history") result["reference"][it.key()] = it.value();
     if (!warn.empty()) result["plot_warning"] = warn;
-    if (refOk) result["fig7"] = writeFig7(study.out, rows, m0);
+    nlohmann::json model = study.model ? fig7ModelCurves(*study.model, study.reference) : nlohmann::json();
+    if (!model.is_null()) model["path"] = study.modelPath;
+    if (refOk || !model.is_null()) result["fig7"] = writeFig7(study.out, rows, refOk ? m0 : NAN, model);
     writeFileAtomic(study.out / "study.json", result.dump(2));
     return result;
 }

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "model.hpp"
 #include "scene/mixer_scene.hpp"
 
 namespace mixload::experiments {
@@ -43,6 +44,9 @@ struct FormulationStudy {
     // Every run (reference and variants) starts from this run directory's latest fields instead of
     // the scene's deposit: a converged reference bed, so that each run only relaxes to its change.
     std::filesystem::path warmFrom;
+    // A surrogate whose Fig. 7 curves are drawn beside the full runs' (fig7ModelCurves).
+    std::optional<surrogates::Surrogate> model;
+    std::string modelPath;
 };
 
 // The paper's Fig. 7 from a study's rows (variant rows with factors, sign_paper and, when steady,
@@ -51,9 +55,16 @@ struct FormulationStudy {
 // M) and whether its sign is the paper's. Parameters without a steady variant are left out.
 nlohmann::json fig7Fit(const nlohmann::json& rows);
 
+// The surrogate's Fig. 7: per parameter, the model's M with that parameter alone scaled by 0.70 to
+// 1.30 at the reference scene, over the model's own M at the reference (so that its shape, not its
+// bias, is compared with the full runs'), the least-squares slope of that curve, the model's
+// M/M0 at x0.8 and x1.2, and the factors where the point leaves the model's training box. Factors
+// the scene refuses (mu_d <= mu_s) are left out.
+nlohmann::json fig7ModelCurves(const surrogates::Surrogate& model, const scene::MixerScene& reference);
+
 // Runs the reference and every variant (resumable, shared run store) and writes <out>/table.md,
 // table.csv, formulation.png (model against paper, relative change of M), study.json and, from the
-// one-parameter variants that are steady, fig7.md, .csv and .png.
+// one-parameter variants that are steady and from the surrogate if given, fig7.md, .csv and .png.
 nlohmann::json runFormulationStudy(const FormulationStudy& study);
 
 }  // namespace mixload::experiments

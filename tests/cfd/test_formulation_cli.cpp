@@ -4,25 +4,51 @@
 // scene refuses stops the study before any run; a study started warm from a run.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 
 #include <nlohmann/json.hpp>
 
 #include "cli_harness.hpp"
+#include "common/atomic_file.hpp"
 
 using namespace mixload::testing;
 namespace fs = std::filesystem;
 
 TEST(FormulationStudy, RunsTheReferenceAndEachVariantAndJudgesOnlySteadyRuns) {
     const fs::path out = scratchDir("formulation") / "study";
+    const std::string model = std::string(MIXLOAD_DATA_DIR) + "/models/mixer-loading-kriging.json";
     const auto r = runMixload({"study", "formulation", "--variant", "denser:rho=1.5,mu_s=0.9", "--scene", "gcm250", "--cell-size", "0.01",
-                               "--end-time", "0.05", "--out", out.string(), "--json"});
+                               "--end-time", "0.05", "--model", model, "--out", out.string(), "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
     ASSERT_EQ(j["rows"].size(), 1u);
     const auto& row = j["rows"][0];
     EXPECT_EQ(row["verdict"], "open: not steady");
     EXPECT_EQ(j["open"], 1);
+    // The surrogate's Fig. 7 is drawn before any full run is steady: five curves through (1, 1),
+    // mu_d's without the factors that take it below mu_s (0.44 x 0.70 < 0.31).
+    ASSERT_TRUE(j.contains("fig7")) << r.out;
+    EXPECT_TRUE(j["fig7"]["parameters"].empty());
+    const auto& curves = j["fig7"]["model"]["parameters"];
+    ASSERT_EQ(curves.size(), 5u);
+    for (const auto& c : curves) {
+        bool atOne = false;
+        for (const auto& xy : c["points"])
+            if (std::abs(xy[0].get<double>() - 1) < 1e-12) atOne = std::abs(xy[1].get<double>() - 1) < 1e-12;
+        EXPECT_TRUE(atOne) << c["parameter"];
+        EXPECT_TRUE(std::isfinite(c["slope"].get<double>())) << c["parameter"];
+        if (c["parameter"] == "mu_d") EXPECT_GT(c["points"][0][0].get<double>(), 0.70);
+        if (c["parameter"] == "rho") EXPECT_EQ(c["points"].size(), 61u);
+    }
+    const std::string fig7 = mixload::readFile(out / "fig7.md");
+    EXPECT_NE(fig7.find("| rho | 0 | - |"), std::string::npos) << fig7;
+    EXPECT_TRUE(fs::exists(out / "fig7.png"));
+    // A model file that is not one is refused before any run.
+    const auto bad = runMixload({"study", "formulation", "--variant", "denser:rho=1.5", "--model", (out / "table.md").string(),
+                                 "--out", (out.parent_path() / "bad").string()});
+    EXPECT_EQ(bad.rc, 2) << bad.err;
+    EXPECT_FALSE(fs::exists(out.parent_path() / "bad"));
     // The variant's run has the changed powder; the deposit is the same mass in both.
     const auto scene = [](const nlohmann::json& res) {
         return nlohmann::json::parse(std::ifstream(fs::path(res["run_dir"].get<std::string>()) / "scene.json"))["scene"];
