@@ -105,7 +105,10 @@ int fit(const SurrogateCmd& o) {
                                     {"command", "mixload surrogate fit " + (o.campaign.empty() ? "--table " + o.table : "--campaign " + o.campaign) +
                                                     " --kind " + o.kind + " --holdout " + std::to_string(o.holdout) +
                                                     (o.similarity ? " --similarity" : "") + (o.noise > 0 ? " --noise " + formatNumber(o.noise) : "")}};
-    if (const auto v = experiments::openBarrelVolume(source.value("base", nlohmann::json()))) provenance["full_barrel_m3"] = *v;
+    if (const auto base = experiments::campaignBaseScene(source.value("base", nlohmann::json()))) {
+        provenance["full_barrel_m3"] = base->geometry.openVolume();
+        provenance["cell_size_m"] = base->cellSize;  // a base that names a level ("coarse") means this
+    }
     const auto t0 = std::chrono::steady_clock::now();
     auto model = surrogates::Surrogate::fit(train, f, provenance);
     const double seconds = secondsSince(t0);
@@ -229,7 +232,8 @@ int info(const SurrogateCmd& o) {
     std::cout << o.model << ": " << m.kind() << " model of M [kg], " << v.value("transform", "") << ", trained on "
               << m.trainingIds().size() << " runs\n  created " << out["provenance"].value("created_utc", "") << " by mixload "
               << out["provenance"].value("mixload_version", "") << " (" << out["provenance"].value("git_commit", "") << ")\n"
-              << "  source " << out["provenance"]["source"].dump() << "\n  training box (model inputs):\n";
+              << "  belongs to " << m.sourceLabel() << "\n  source " << out["provenance"]["source"].dump()
+              << "\n  training box (model inputs):\n";
     for (const auto& in : out["model_inputs"])
         std::cout << "    " << std::left << std::setw(10) << in["name"].get<std::string>() << std::right << std::setw(12)
                   << in["min"].get<double>() << " .. " << std::setw(12) << in["max"].get<double>() << " "

@@ -526,6 +526,8 @@ std::string Surrogate::sourceLabel() const {
     std::ostringstream os;
     os << "scene " << base.value("scene", std::string("?")) << ", " << base.value("method", std::string("?")) << ", ";
     if (base.contains("cell_size_m")) os << base["cell_size_m"].get<double>() << " m mesh";
+    else if (provenance_.contains("cell_size_m"))
+        os << base.value("mesh", std::string("?")) << " mesh, " << provenance_["cell_size_m"].get<double>() << " m";
     else os << base.value("mesh", std::string("?")) << " mesh";
     // Campaign bases written before the O-grid carry no mesher: they ran on the snappy mesh.
     os << " (" << base.value("mesher", std::string("snappy")) << "), campaign " << src.value("campaign", std::string("?"))

@@ -15,12 +15,12 @@ surrogates::Point mixerInputs(const nlohmann::json& base, const nlohmann::json& 
     return sceneInputs(mixerSceneFor(base, params));
 }
 
-std::optional<double> openBarrelVolume(const nlohmann::json& base) {
+std::optional<scene::MixerScene> campaignBaseScene(const nlohmann::json& base) {
     if (!base.is_object() || base.value("kind", std::string()) != "mixer") return std::nullopt;
     try {
-        return mixerSceneFor(base, nlohmann::json::object()).geometry.openVolume();
+        return mixerSceneFor(base, nlohmann::json::object());
     } catch (const std::exception&) {
-        return std::nullopt;  // a scene renamed or retired since: the bound is only left out
+        return std::nullopt;  // a scene renamed or retired since: what it would give is only left out
     }
 }
 

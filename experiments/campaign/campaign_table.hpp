@@ -21,10 +21,10 @@ surrogates::Point mixerInputs(const nlohmann::json& base, const nlohmann::json& 
 // The same seven inputs read off a scene.
 surrogates::Point sceneInputs(const scene::MixerScene& s);
 
-// The open volume of a mixer campaign's barrel [m3] (bore minus shaft and paddles): a full barrel
-// of a powder is its bulk density times it, the bound no loading exceeds. Nothing for a base that
-// is not a mixer's or that no longer makes a scene.
-std::optional<double> openBarrelVolume(const nlohmann::json& base);
+// A mixer campaign's base scene (no point's parameters applied): its barrel's open volume bounds
+// every loading (a full barrel of the powder), its cell size names the mesh a model learnt. Nothing
+// for a base that is not a mixer's or that no longer makes a scene.
+std::optional<scene::MixerScene> campaignBaseScene(const nlohmann::json& base);
 
 surrogates::Table campaignTable(const std::string& name, const std::string& dir, nlohmann::json& provenance);
 

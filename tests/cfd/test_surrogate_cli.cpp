@@ -231,6 +231,18 @@ TEST(SurrogateCli, BadModelFilesAreRefused) {
     EXPECT_FALSE(fs::exists(dir / "m.json"));
 }
 
+TEST(SurrogateCli, AModelNamesTheMeshItsCampaignRanOn) {
+    // Campaign v2's base names its mesh by level ("coarse"), which on gcm250-v2 is the 1 cm O-grid:
+    // a model fitted from it says both, so that nobody reads "coarse" as the coarsest mesh.
+    const fs::path dir = scratchDir("surrogate-mesh-label");
+    auto r = runMixload({"surrogate", "fit", "--table", std::string(MIXLOAD_DATA_DIR) + "/campaigns/mixer-v2.csv", "--kind", "rsm",
+                         "--similarity", "-o", (dir / "r.json").string()});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    r = runMixload({"surrogate", "info", (dir / "r.json").string()});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_NE(r.out.find("scene gcm250-v2, mrf, coarse mesh, 0.01 m (ogrid)"), std::string::npos) << r.out;
+}
+
 TEST(SurrogateCli, ShippedModelsReproduceTheirRecordedAccuracy) {
     // The shipped models belong to the calibrated scene (gcm250-v2, 1 cm O-grid) and train on the
     // export of its campaign v2 under data/. `mixload check` without --campaign or --table finds
