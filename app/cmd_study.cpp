@@ -294,7 +294,9 @@ void addStudy(CLI::App& app, Action& action) {
     auto fo = std::make_shared<FormulationCmd>();
     fo->base.add(fm);
     fm->add_option("--preset", fo->preset,
-                   "paper-whatifs | fig7-signs (each parameter at 0.8 and 1.2) | fig7 (six factors per parameter, 0.7-1.3, as the paper) | all (default when no --variant is given)");
+                   "paper-whatifs | fig7-signs (each parameter at 0.8 and 1.2) | fig7 (six factors per parameter, 0.7-1.3, as the paper) | "
+                   "fig7-similar (fig7 without I0's runs: I0 x f is d x 1/f by the d/I0 similarity, so the d runs draw its panel) | "
+                   "all (default when no --variant is given)");
     fm->add_option("--variant", fo->variants,
                    "NAME:KEY=FACTOR[,KEY=FACTOR...], KEY one of mu_s, mu_d, i0, d, rho (bulk density); "
                    "repeatable");

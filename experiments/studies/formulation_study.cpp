@@ -69,18 +69,21 @@ std::vector<FormulationVariant> formulationPreset(const std::string& name) {
         out.push_back({"whatif-rho+50-mus-10", {{"rho", 1.5}, {"mu_s", 0.9}}, 0.25, +1});
         out.push_back({"whatif-rho+50-mus-32", {{"rho", 1.5}, {"mu_s", 0.68}}, -0.08, -1});
     }
-    if (name == "fig7-signs" || name == "all" || name == "fig7") {
+    if (name == "fig7-signs" || name == "all" || name == "fig7" || name == "fig7-similar") {
         // Its Fig. 7: M rises with mu_s, mu_d, d and rho, falls with I0. fig7 runs six factors per
-        // parameter, as the paper does; fig7-signs the two at +-20% (the same runs).
-        const std::vector<int> steps = name == "fig7" ? std::vector<int>{-30, -20, -10, 10, 20, 30} : std::vector<int>{-20, 20};
+        // parameter, as the paper does; fig7-signs the two at +-20% (the same runs); fig7-similar
+        // the six without I0's, whose panel the d runs give (fig7Fit).
+        const bool six = name == "fig7" || name == "fig7-similar";
+        const std::vector<int> steps = six ? std::vector<int>{-30, -20, -10, 10, 20, 30} : std::vector<int>{-20, 20};
         for (const char* k : kKeys) {
+            if (name == "fig7-similar" && std::string(k) == "i0") continue;
             const int sign = paperSign(k);
             for (int p : steps)
                 out.push_back({std::string(k) + (p > 0 ? "+" : "") + std::to_string(p), {{k, 1 + p / 100.0}}, std::nullopt,
                                p > 0 ? sign : -sign});
         }
     }
-    if (out.empty()) throw InputError("preset", name, "paper-whatifs | fig7-signs | fig7 | all");
+    if (out.empty()) throw InputError("preset", name, "paper-whatifs | fig7-signs | fig7 | fig7-similar | all");
     return out;
 }
 
@@ -139,6 +142,22 @@ nlohmann::json fig7Fit(const nlohmann::json& rows) {
         params.push_back({{"parameter", k}, {"steady_runs", pts.size() - 1}, {"slope", slope}, {"intercept", icpt},
                           {"sign_paper", sign}, {"verdict", signVerdict(slope, sign)}, {"points", pts}});
     }
+    // mu(I) sees d and I0 only through d/I0 (measured on the calibrated scene: both x2 moved M by
+    // -0.08%), so I0 x f is d x 1/f: without runs of its own, I0's panel is the d runs mirrored.
+    bool hasI0 = false;
+    size_t d = params.size();
+    for (size_t i = 0; i < params.size(); ++i) {
+        hasI0 = hasI0 || params[i]["parameter"] == "i0";
+        if (params[i]["parameter"] == "d") d = i;
+    }
+    if (hasI0 || d == params.size()) return params;
+    std::vector<std::pair<double, double>> pts;
+    for (const auto& xy : params[d]["points"]) pts.push_back({1 / xy[0].get<double>(), xy[1].get<double>()});
+    const auto [slope, icpt] = fitLine(pts);
+    nlohmann::json i0{{"parameter", "i0"}, {"steady_runs", params[d]["steady_runs"]}, {"slope", slope}, {"intercept", icpt},
+                      {"sign_paper", paperSign("i0")}, {"verdict", signVerdict(slope, paperSign("i0"))}, {"points", pts},
+                      {"from", "the d runs, I0 x f = d x 1/f (d/I0 similarity)"}};
+    params.insert(params.begin() + static_cast<std::ptrdiff_t>(d), i0);  // in kKeys' order, before d
     return params;
 }
 
@@ -210,7 +229,7 @@ nlohmann::json writeFig7(const fs::path& out, const nlohmann::json& rows, double
         const nlohmann::json* q = model.is_null() ? nullptr : entry(model["parameters"], k);
         if (!p && !q) continue;
         const int sign = paperSign(k);
-        md << "| " << k << " | " << (p ? (*p)["steady_runs"].get<int>() : 0) << " | " << (p ? num((*p)["slope"]) : "-") << " | "
+        md << "| " << k << (p && p->contains("from") ? " (from the d runs)" : "") << " | " << (p ? (*p)["steady_runs"].get<int>() : 0) << " | " << (p ? num((*p)["slope"]) : "-") << " | "
            << (q ? num((*q)["slope"]) : "-") << " | "
            << (q && q->contains("at_0.8") && q->contains("at_1.2") ? num((*q)["at_0.8"]) + ", " + num((*q)["at_1.2"]) : "-")
            << " | " << (sign > 0 ? "rises" : "falls") << " | " << (p ? (*p)["verdict"].get<std::string>() : "-") << " | "
@@ -223,7 +242,7 @@ nlohmann::json writeFig7(const fs::path& out, const nlohmann::json& rows, double
             }
             dat << "\n\n";
             gp << sep() << "'fig7.dat' index " << runBlock++ << " with points pt " << 5 + 2 * b << " ps 1.5 lc " << b + 1
-               << " title '" << k << "', " << (*p)["intercept"].get<double>() << " + " << (*p)["slope"].get<double>()
+               << " title '" << k << (p->contains("from") ? " (d runs)" : "") << "', " << (*p)["intercept"].get<double>() << " + " << (*p)["slope"].get<double>()
                << " * x with lines lc " << b + 1 << " notitle";
         }
         if (q) {

@@ -27,7 +27,8 @@ struct FormulationVariant {
 };
 
 // Named sets: paper-whatifs (the paper's two arrows on its Fig. 8), fig7-signs (each of mu_s,
-// mu_d, i0, d, rho at 0.8 and 1.2), all (both).
+// mu_d, i0, d, rho at 0.8 and 1.2), fig7 (each at six factors 0.7-1.3), fig7-similar (fig7 without
+// I0, whose panel the d runs give by similarity), all (paper-whatifs and fig7-signs).
 std::vector<FormulationVariant> formulationPreset(const std::string& name);
 // "NAME:key=factor[,key=factor...]" (keys mu_s, mu_d, i0, d, rho). InputError otherwise.
 FormulationVariant parseFormulationVariant(const std::string& text);
@@ -52,7 +53,8 @@ struct FormulationStudy {
 // The paper's Fig. 7 from a study's rows (variant rows with factors, sign_paper and, when steady,
 // change_model): per parameter changed alone, M / M_reference against the parameter / its
 // reference value with the reference as (1, 1), a least-squares line, its slope (the elasticity of
-// M) and whether its sign is the paper's. Parameters without a steady variant are left out.
+// M) and whether its sign is the paper's. Parameters without a steady variant are left out, except
+// I0, which without runs of its own mirrors the d runs (I0 x f = d x 1/f; "from" says so).
 nlohmann::json fig7Fit(const nlohmann::json& rows);
 
 // The surrogate's Fig. 7: per parameter, the model's M with that parameter alone scaled by 0.70 to

@@ -176,6 +176,32 @@ TEST(Fig7, FitsOneLinePerParameterThroughTheReference) {
     EXPECT_EQ(p[1]["parameter"], "i0");
     EXPECT_NEAR(p[1]["slope"].get<double>(), -0.25, 1e-12);
     EXPECT_EQ(p[1]["verdict"], "same sign");
+    EXPECT_FALSE(p[1].contains("from"));
+}
+
+TEST(Fig7, WithoutItsOwnRunsI0MirrorsTheDRuns) {
+    // d x 0.8 and x 1.25 steady, no I0 run: I0's panel is the d runs at 1/f (1.25 and 0.8), placed
+    // before d, with the paper's sign for I0 (falls).
+    const nlohmann::json rows = nlohmann::json::array({
+        {{"factors", {{"d", 0.8}}}, {"sign_paper", -1}, {"change_model", -0.1}},
+        {{"factors", {{"d", 1.25}}}, {"sign_paper", 1}, {"change_model", 0.05}},
+    });
+    const auto p = mixload::experiments::fig7Fit(rows);
+    ASSERT_EQ(p.size(), 2u);
+    EXPECT_EQ(p[0]["parameter"], "i0");
+    EXPECT_EQ(p[1]["parameter"], "d");
+    EXPECT_TRUE(p[0].contains("from"));
+    EXPECT_EQ(p[0]["steady_runs"], 2);
+    EXPECT_NEAR(p[0]["points"][1][0].get<double>(), 1.25, 1e-12);
+    EXPECT_NEAR(p[0]["points"][1][1].get<double>(), 0.9, 1e-12);
+    EXPECT_LT(p[0]["slope"].get<double>(), 0);
+    EXPECT_GT(p[1]["slope"].get<double>(), 0);
+    EXPECT_EQ(p[0]["verdict"], "same sign");
+    // The presets: fig7 runs 30 variants, fig7-similar the 24 without I0.
+    EXPECT_EQ(mixload::experiments::formulationPreset("fig7").size(), 30u);
+    const auto similar = mixload::experiments::formulationPreset("fig7-similar");
+    EXPECT_EQ(similar.size(), 24u);
+    for (const auto& v : similar) EXPECT_FALSE(v.factors.count("i0")) << v.name;
 }
 
 TEST(MethodsComparison, PairsMrfWithSmAtTheSamePointOnly) {
