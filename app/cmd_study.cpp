@@ -62,6 +62,7 @@ struct FormulationCmd {
     std::string runs;
     std::string warmFrom, model;
     int jobs = 1, np = 1;
+    double maxHours = 0;
     bool json = false;
 };
 }  // namespace
@@ -307,6 +308,10 @@ void addStudy(CLI::App& app, Action& action) {
     fm->add_option("--warm-from", fo->warmFrom,
                    "Start every run from this mixer run directory's latest fields (e.g. a converged reference) "
                    "instead of the scene's deposit");
+    fm->add_option("--max-hours", fo->maxHours,
+                   "Stop cleanly after this many hours (0: no limit): unfinished runs keep what they ran and the same "
+                   "command resumes them; SIGTERM or Ctrl-C stops the same way")
+        ->capture_default_str();
     fm->add_option("--model", fo->model,
                    "Also draw this surrogate's Fig. 7 curves beside the full runs' (e.g. data/models/mixer-loading-kriging.json; "
                    "drawn even before the reference is steady)");
@@ -331,9 +336,14 @@ void addStudy(CLI::App& app, Action& action) {
                 st.modelPath = fo->model;
             }
             st.progress = !fo->json;
+            requireRange("max-hours", fo->maxHours, 0, 1e5);
+            st.deadline = deadlineAfterHours(fo->maxHours);
+            stopOnSignals();
             const auto r = experiments::runFormulationStudy(st);
             if (fo->json) std::cout << r.dump(2) << '\n';
             else std::cout << readFile(r["table_md"].get<std::string>()) << "plot: " << r["plot"].get<std::string>() << '\n';
+            if (r["unfinished"].get<size_t>() > 0 && !fo->json)
+                std::cout << r["unfinished"].get<size_t>() << " of the runs are not finished; the same command resumes them\n";
             for (const auto& row : r["rows"])
                 if (row.contains("error")) return 1;
             return r["reference"].contains("error") ? 1 : 0;

@@ -295,7 +295,8 @@ nlohmann::json runFormulationStudy(const FormulationStudy& study) {
     const auto results = runMixerScenes(scenes, study.runs.empty() ? study.out / "runs" : study.runs, study.jobs,
                                         study.np, study.progress, "formulation study",
                                         study.warmFrom.empty() ? std::vector<fs::path>{}
-                                                               : std::vector<fs::path>(scenes.size(), study.warmFrom));
+                                                               : std::vector<fs::path>(scenes.size(), study.warmFrom),
+                                        study.deadline);
     const auto& ref = results[0];
     const bool refOk = ref.contains("loading_kg") && ref.value("steady", false);
     const double m0 = ref.value("loading_kg", NAN);
@@ -306,7 +307,9 @@ nlohmann::json runFormulationStudy(const FormulationStudy& study) {
     md << "Reference: " << study.reference.material.name << ", " << study.reference.rpm << " rpm, "
        << study.reference.feedKgH << " kg/h, scene " << study.reference.name << " (" << study.reference.hash()
        << (study.warmFrom.empty() ? std::string() : ", every run started from " + study.warmFrom.string())
-       << "): M = " << (ref.contains("loading_kg") ? std::to_string(m0) : std::string("failed")) << " kg"
+       << "): M = " << (ref.contains("loading_kg") ? std::to_string(m0) + " kg"
+                        : ref.contains("stopped")   ? "not finished (" + ref["stopped"].get<std::string>() + ")"
+                                                    : std::string("failed"))
        << (refOk ? "" : " (NOT steady: no verdicts)") << "\n\n"
        << "| variant | change | M [kg] | dM model | dM paper | verdict |\n|---|---|---|---|---|---|\n";
     csv << "variant,change,loading_kg,steady,change_model,change_paper,sign_paper,verdict,run_dir\n";
@@ -319,7 +322,8 @@ nlohmann::json runFormulationStudy(const FormulationStudy& study) {
             if (it.key() != "history") row[it.key()] = it.value();
         std::string verdict;
         double dm = NAN;
-        if (!r.contains("loading_kg")) verdict = "run failed";
+        if (r.contains("stopped")) verdict = "open: not finished (" + r["stopped"].get<std::string>() + ")";
+        else if (!r.contains("loading_kg")) verdict = "run failed";
         else if (!r.value("steady", false) || !refOk) verdict = "open: not steady";
         else {
             dm = r["loading_kg"].get<double>() / m0 - 1;
@@ -367,7 +371,11 @@ nlohmann::json runFormulationStudy(const FormulationStudy& study) {
     const std::string warn = runGnuplot(study.out, "formulation.gp", gp.str());
     writeFileAtomic(study.out / "table.md", md.str());
     writeFileAtomic(study.out / "table.csv", csv.str());
+    size_t unfinished = ref.contains("stopped");
+    for (const auto& r : rows) unfinished += r.contains("stopped");
     nlohmann::json result{{"reference", {{"scene_hash", study.reference.hash()}}},
+                          {"unfinished", unfinished},
+                          {"stopped_at_max_hours", unfinished > 0},
                           {"warm_from", study.warmFrom.empty() ? nlohmann::json() : nlohmann::json(study.warmFrom.string())},
                           {"rows", rows},
                           {"pass", pass},

@@ -3,6 +3,7 @@
 // a reference, each change compared with what the paper reports for it (its two what-ifs and the
 // signs of its Fig. 7), pass or fail with the measured number.
 #pragma once
+#include <chrono>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -45,6 +46,8 @@ struct FormulationStudy {
     // Every run (reference and variants) starts from this run directory's latest fields instead of
     // the scene's deposit: a converged reference bed, so that each run only relaxes to its change.
     std::filesystem::path warmFrom;
+    // Runs still going then stop and keep what they ran; the same study resumes them.
+    std::optional<std::chrono::steady_clock::time_point> deadline;
     // A surrogate whose Fig. 7 curves are drawn beside the full runs' (fig7ModelCurves).
     std::optional<surrogates::Surrogate> model;
     std::string modelPath;

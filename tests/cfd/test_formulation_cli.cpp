@@ -66,6 +66,30 @@ TEST(FormulationStudy, RunsTheReferenceAndEachVariantAndJudgesOnlySteadyRuns) {
     EXPECT_EQ(nlohmann::json::parse(again.out)["rows"][0]["loading_kg"], row["loading_kg"]);
 }
 
+TEST(FormulationStudy, StopsAtMaxHoursAndTheSameCommandResumes) {
+    // A six-level Fig. 7 is tens of core-hours: the study runs in slices. Stopped, its runs are
+    // open (not failed, exit 0) and the same command finishes them.
+    const fs::path out = scratchDir("formulation-slices") / "study";
+    const std::vector<std::string> args{"study", "formulation", "--variant", "denser:rho=1.2", "--scene", "gcm250", "--cell-size", "0.02",
+                                        "--end-time", "0.05", "--out", out.string(), "--json"};
+    auto sliced = args;
+    sliced.insert(sliced.end(), {"--max-hours", "0.00001"});
+    auto r = runMixload(sliced);
+    ASSERT_EQ(r.rc, 0) << r.err;
+    auto j = nlohmann::json::parse(r.out);
+    EXPECT_TRUE(j["stopped_at_max_hours"].get<bool>()) << r.out;
+    EXPECT_EQ(j["unfinished"], 2);
+    EXPECT_EQ(j["rows"][0]["verdict"].get<std::string>().rfind("open: not finished", 0), 0u) << j["rows"][0];
+    EXPECT_NE(mixload::readFile(out / "table.md").find("M = not finished"), std::string::npos);
+    r = runMixload(args);
+    ASSERT_EQ(r.rc, 0) << r.err;
+    j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["unfinished"], 0);
+    EXPECT_TRUE(j["reference"].contains("loading_kg")) << r.out;
+    EXPECT_TRUE(j["rows"][0].contains("loading_kg")) << r.out;
+    EXPECT_EQ(runMixload({"study", "formulation", "--variant", "x:rho=1.2", "--max-hours", "-1", "--out", out.string()}).rc, 2);
+}
+
 TEST(FormulationStudy, AVariantTheSceneRefusesStopsItBeforeAnyRun) {
     const fs::path out = scratchDir("formulation-bad") / "study";
     for (const auto& [variant, needle] : std::vector<std::pair<std::string, std::string>>{
