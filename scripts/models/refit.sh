@@ -2,8 +2,9 @@
 # refit.sh [MIXLOAD]: refits the two shipped models from the landed training table
 # (data/campaigns/mixer-v2.csv, brought in by scripts/campaigns/land.sh) and regenerates what the
 # repository draws from them: Fig. 8's plane (docs/studies/fig8), the paper's two what-if reports
-# (docs/studies/whatif-paper) and the model's Fig. 7 (docs/studies/formulation/fig7-model). Then it prints the figures the docs quote: leave-one-out, the 14
-# earlier 1 cm runs, the landed hold-out and the Sobol indices. Nothing is recorded in a model's
+# (docs/studies/whatif-paper) and the model's Fig. 7 (docs/studies/formulation/fig7-model). Then it
+# prints the figures the docs quote: leave-one-out, the 14 earlier 1 cm runs, the landed hold-out
+# and the Sobol indices. Nothing is recorded in a model's
 # check history but the fit itself. The numbers quoted in docs/surrogates.md and README.md are
 # then updated by hand from this output.
 #
