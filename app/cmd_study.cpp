@@ -19,6 +19,20 @@
 namespace mixload::app {
 
 namespace {
+// Studies of many full runs stop the same way: at --max-hours or on SIGTERM/Ctrl-C, runs kept.
+void addMaxHours(CLI::App* cmd, double& hours) {
+    cmd->add_option("--max-hours", hours,
+                    "Stop cleanly after this many hours (0: no limit): unfinished runs keep what they ran and the same "
+                    "command resumes them; SIGTERM or Ctrl-C stops the same way")
+        ->capture_default_str();
+}
+
+std::optional<std::chrono::steady_clock::time_point> studyDeadline(double hours) {
+    requireRange("max-hours", hours, 0, 1e5);
+    stopOnSignals();
+    return deadlineAfterHours(hours);
+}
+
 struct StudyCmd {
     CollapseOptions base;
     std::vector<std::string> materials{"quartz", "copper"};
@@ -137,10 +151,7 @@ void addStudy(CLI::App& app, Action& action) {
     mx->add_flag("--sm-down-feeds", mo->smDownFeeds,
                  "With --sm-from-mrf: only each speed's highest feed starts sm from MRF; each lower feed "
                  "continues the sm run at the next higher feed, at its time and mesh angle");
-    mx->add_option("--max-hours", mo->maxHours,
-                   "Stop cleanly after this many hours (0: no limit): unfinished runs keep what they ran and the same "
-                   "command resumes them; SIGTERM or Ctrl-C stops the same way")
-        ->capture_default_str();
+    addMaxHours(mx, mo->maxHours);
     mx->add_flag("--json", mo->json, "Print JSON");
     mx->callback([&action, mo] {
         action = [mo] {
@@ -185,9 +196,7 @@ void addStudy(CLI::App& app, Action& action) {
                 throw InputError("sm-down-feeds", "set", "used together with --sm-from-mrf");
             st.smFromMrf = mo->smFromMrf;
             st.smDownFeeds = mo->smDownFeeds;
-            requireRange("max-hours", mo->maxHours, 0, 1e5);
-            st.deadline = deadlineAfterHours(mo->maxHours);
-            stopOnSignals();
+            st.deadline = studyDeadline(mo->maxHours);
             const auto r = experiments::runMixerStudy(st);
             if (mo->json) std::cout << r.dump(2) << '\n';
             else std::cout << readFile(r["table_md"].get<std::string>()) << "plot: " << r["plot"].get<std::string>()
@@ -308,10 +317,7 @@ void addStudy(CLI::App& app, Action& action) {
     fm->add_option("--warm-from", fo->warmFrom,
                    "Start every run from this mixer run directory's latest fields (e.g. a converged reference) "
                    "instead of the scene's deposit");
-    fm->add_option("--max-hours", fo->maxHours,
-                   "Stop cleanly after this many hours (0: no limit): unfinished runs keep what they ran and the same "
-                   "command resumes them; SIGTERM or Ctrl-C stops the same way")
-        ->capture_default_str();
+    addMaxHours(fm, fo->maxHours);
     fm->add_option("--model", fo->model,
                    "Also draw this surrogate's Fig. 7 curves beside the full runs' (e.g. data/models/mixer-loading-kriging.json; "
                    "drawn even before the reference is steady)");
@@ -336,9 +342,7 @@ void addStudy(CLI::App& app, Action& action) {
                 st.modelPath = fo->model;
             }
             st.progress = !fo->json;
-            requireRange("max-hours", fo->maxHours, 0, 1e5);
-            st.deadline = deadlineAfterHours(fo->maxHours);
-            stopOnSignals();
+            st.deadline = studyDeadline(fo->maxHours);
             const auto r = experiments::runFormulationStudy(st);
             if (fo->json) std::cout << r.dump(2) << '\n';
             else std::cout << readFile(r["table_md"].get<std::string>()) << "plot: " << r["plot"].get<std::string>() << '\n';
