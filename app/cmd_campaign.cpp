@@ -252,8 +252,12 @@ void addCampaign(CLI::App& app, Action& action) {
                                   ? " (laid " + formatNumber(p["laid_kg"].get<double>()) + " kg)"
                                   : std::string())
                           << ": " << formatNumber(p["replicate_kg"].get<double>())
-                          << " kg (" << formatNumber(100 * p["relative_difference"].get<double>()) << "%)\n";
-            if (j["run_noise"].is_null()) std::cout << "no finished replicate pair yet\n";
+                          << " kg (" << formatNumber(100 * p["relative_difference"].get<double>()) << "%)"
+                          << (p["two_states"].get<bool>() ? ": two steady states, not scatter (left out)" : "") << '\n';
+            if (j["two_state_pairs"].get<int>() > 0)
+                std::cout << j["two_state_pairs"] << " pair(s) more than " << formatNumber(experiments::kTwoStatesRatio)
+                          << "x apart: the point has two steady states; the scatter below leaves them out\n";
+            if (j["run_noise"].is_null()) std::cout << "no finished replicate pair in one steady state yet\n";
             else std::cout << j["n"] << " pairs: one run's scatter " << formatNumber(100 * j["run_noise"].get<double>()) << "% (surrogate fit --noise "
                            << formatNumber(j["run_noise"].get<double>()) << ")\n";
             return 0;

@@ -70,7 +70,10 @@ nlohmann::json extendCampaign(const CampaignPlace& place, int n, bool adaptive =
 // label noise of the steady test (campaignNoise). Throws InputError with too few such points.
 nlohmann::json replicateCampaign(const CampaignPlace& place, int n, double depositFactor);
 // The finished replicate pairs, their relative differences, and one run's scatter estimated from
-// them: sqrt(mean(rel^2) / 2) (null without a pair); what `surrogate fit --noise` takes.
+// them: sqrt(mean(rel^2) / 2) (null without a pair); what `surrogate fit --noise` takes. A pair
+// whose loadings lie more than kTwoStatesRatio apart is two steady states of its point: flagged
+// (two_states), counted (two_state_pairs) and left out of the scatter and of n.
+inline constexpr double kTwoStatesRatio = 2.0;
 nlohmann::json campaignNoise(const CampaignPlace& place);
 // Counts, where each unfinished mixer point stands, and a forecast of the core-hours left
 // (campaign/forecast), fitted on the campaign's finished runs and those of `with` (same base scene).

@@ -156,20 +156,29 @@ TEST(Ledger, SurvivesSigkillDuringWrites) {
 // Replicates of a mixer campaign's finished points, and the label noise their pairs give. The
 // results are written into the ledger by hand: this checks the bookkeeping (which points, which
 // deposits, which pairs), not a solver.
-TEST(Ledger, ReplicatesAndTheirNoise) {
-    namespace ex = mixload::experiments;
-    const fs::path dir = fs::temp_directory_path() / ("mixload-replicates-" + std::to_string(::getpid()));
+namespace {
+// A Sobol mixer campaign of n points on the calibrated scene, created in a fresh directory.
+mixload::experiments::CampaignSpec sobolMixerCampaign(const std::string& name, const fs::path& dir, int n,
+                                                      const std::string& rangesToml) {
     fs::remove_all(dir);
     fs::create_directories(dir);
     const fs::path ranges = dir / "r.toml";
-    mixload::writeFileAtomic(ranges, "scene = \"mixer\"\n[rpm]\nmin = 39\nmax = 254\nunit = \"rpm\"\n[feed_kg_h]\nmin = 5\nmax = 45\nunit = \"kg/h\"\n");
-    ex::CampaignSpec spec;
-    spec.place = {"rep", dir.string()};
+    mixload::writeFileAtomic(ranges, rangesToml);
+    mixload::experiments::CampaignSpec spec;
+    spec.place = {name, dir.string()};
     spec.ranges = ranges.string();
     spec.design = "sobol";
-    spec.n = 6;
+    spec.n = n;
     spec.scene = "gcm250-v2";
-    ex::createCampaign(spec);
+    mixload::experiments::createCampaign(spec);
+    return spec;
+}
+}  // namespace
+
+TEST(Ledger, ReplicatesAndTheirNoise) {
+    namespace ex = mixload::experiments;
+    const fs::path dir = fs::temp_directory_path() / ("mixload-replicates-" + std::to_string(::getpid()));
+    const auto spec = sobolMixerCampaign("rep", dir, 6, "scene = \"mixer\"\n[rpm]\nmin = 39\nmax = 254\nunit = \"rpm\"\n[feed_kg_h]\nmin = 5\nmax = 45\nunit = \"kg/h\"\n");
     EXPECT_THROW(ex::replicateCampaign(spec.place, 2, 0.5), mixload::InputError);  // nothing finished yet
     {
         Ledger l(spec.place.ledger());
@@ -241,6 +250,34 @@ TEST(Ledger, ReplicatesAndTheirNoise) {
         for (const char* p : {"rpm", "feed_kg_h"})
             EXPECT_DOUBLE_EQ(paramsAt("rep", spec.place.ledger(), 8 + k)[p].get<double>(),
                              paramsAt("eight", eight.place.ledger(), 6 + k)[p].get<double>()) << p;
+    fs::remove_all(dir);
+}
+
+// A replicate that settles in another steady state (v2's 250 rpm point: a 0.110 kg bed, and from a
+// smaller deposit a 0.016 kg film) is not the steady test's scatter: the pair is flagged and kept
+// out of the noise, which the other pair alone gives.
+TEST(Ledger, AReplicateInAnotherSteadyStateIsNotCountedAsNoise) {
+    namespace ex = mixload::experiments;
+    const fs::path dir = fs::temp_directory_path() / ("mixload-two-states-" + std::to_string(::getpid()));
+    const auto spec = sobolMixerCampaign("two", dir, 4, "scene = \"mixer\"\n[rpm]\nmin = 39\nmax = 254\nunit = \"rpm\"\n");
+    Ledger l(spec.place.ledger());
+    std::map<std::string, double> loading;
+    while (auto r = l.claimNext("two", 2, false)) {
+        loading[r->params["rpm"].dump()] = 0.1 * (r->index + 1);
+        l.markDone(r->id, {{"loading_kg", 0.1 * (r->index + 1)}, {"steady", true}}, 1, 1, "/x");
+    }
+    ASSERT_EQ(ex::replicateCampaign(spec.place, 2, 0.5)["added"], 2);
+    double factor = 1.03;  // the first replicate: scatter; the second: a film 6.8x below its bed
+    while (auto r = l.claimNext("two", 2, false)) {
+        l.markDone(r->id, {{"loading_kg", factor * loading.at(r->params["rpm"].dump())}, {"steady", true}}, 1, 1, "/x");
+        factor = 1 / 6.8;
+    }
+    const auto noise = ex::campaignNoise(spec.place);
+    ASSERT_EQ(noise["pairs"].size(), 2u);
+    EXPECT_EQ(noise["n"], 1);
+    EXPECT_EQ(noise["two_state_pairs"], 1);
+    EXPECT_EQ(noise["pairs"][0]["two_states"].get<bool>() + noise["pairs"][1]["two_states"].get<bool>(), 1);
+    EXPECT_NEAR(noise["run_noise"].get<double>(), 0.03 / 1.015 / std::sqrt(2.0), 1e-9);
     fs::remove_all(dir);
 }
 
