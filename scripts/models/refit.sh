@@ -8,13 +8,14 @@
 # check history but the fit itself. The numbers quoted in docs/surrogates.md and README.md are
 # then updated by hand from this output.
 #
-# MIXLOAD_NOISE overrides the kriging model's label-noise floor (default: the one measured on 1 cm,
-# 0.014; `mixload campaign noise v2` gives it once v2's replicates are done).
+# The kriging model's label-noise floor is one run's scatter as `mixload campaign noise v2` measures
+# it on the landed ledger's replicate pairs (two steady states of a point left out); 0.014 (v2's
+# point 7 run on past its verdict) until a pair has finished. MIXLOAD_NOISE overrides it.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/../.." && pwd)
 mixload=${1:-$here/build/app/mixload}
-noise=${MIXLOAD_NOISE:-0.014}
 cd "$here"
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 [ -x "$mixload" ] || { echo "refit: no mixload at $mixload" >&2; exit 2; }
 table=data/campaigns/mixer-v2.csv
 krig=data/models/mixer-loading-kriging.json
@@ -22,13 +23,19 @@ rsm=data/models/mixer-loading-rsm.json
 earlier=docs/studies/surrogates/calibrated-scene-1cm-runs.csv
 holdout=data/campaigns/mixer-v2-holdout.csv
 [ -f "$table" ] || { echo "refit: no training table $table" >&2; exit 2; }
+noise=${MIXLOAD_NOISE:-}
+if [ -z "$noise" ]; then
+  mkdir -p "$tmp/campaigns" && cp -r data/campaigns/mixer-v2 "$tmp/campaigns/v2"
+  noise=$("$mixload" campaign noise v2 --dir "$tmp/campaigns" --json |
+          python3 -c "import json,sys; print(json.load(sys.stdin)['run_noise'] or 0.014)")
+fi
+echo "refit: label-noise floor $noise"
 
 "$mixload" surrogate fit --table "$table" --similarity --transform auto --noise "$noise" -o "$krig"
 "$mixload" surrogate fit --table "$table" --kind rsm --similarity --transform auto -o "$rsm"
 
 # plane and whatif write their data and scripts beside the pictures; the repository keeps the
 # pictures and tables. keep SRC DST FILE...: each file into DST whole (copy, then rename).
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 keep() { local src=$1 dst=$2; shift 2; for f in "$@"; do cp "$src/$f" "$dst/$f.new" && mv "$dst/$f.new" "$dst/$f"; done; }
 "$mixload" plane --model "$krig" --checks docs/studies/fig8/fullruns-1cm.csv --out "$tmp/fig8"
 keep "$tmp/fig8" docs/studies/fig8 plane.md plane.png
@@ -49,7 +56,7 @@ keep "$tmp/fig7" docs/studies/formulation/fig7-model fig7.md fig7.csv fig7.png
 # docs/studies/surrogates/shipped-checks.txt: the checks (the kriging model's run by run), the
 # answers at the reference point, the paper's what-ifs, Fig. 8's and Fig. 7's summaries, Sobol.
 {
-echo "# scripts/models/refit.sh, $(date -u +%FT%TZ), mixload $(git rev-parse --short=12 HEAD 2>/dev/null || echo unknown), $table ($(grep -c ',done,' "$table") done rows)"
+echo "# scripts/models/refit.sh, $(date -u +%FT%TZ), mixload $(git rev-parse --short=12 HEAD 2>/dev/null || echo unknown), $table ($(grep -c ',done,' "$table") done rows), label-noise floor $noise"
 for model in "$krig" "$rsm"; do
   runs=(); [ "$model" = "$krig" ] && runs=(--runs)  # every run, worst first, for the kriging model
   echo "== $(basename "$model"): leave-one-out on its training runs"
