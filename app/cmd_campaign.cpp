@@ -21,7 +21,7 @@ struct CampaignCmd {
     std::string output;
     experiments::CampaignRunOptions run;
     bool json = false, adaptive = false;
-    double depositFactor = 0.5;
+    double depositFactor = 0.5, inset = 0;
     int point = -1;
     std::string checkModel, criterion = "variance";
     std::vector<std::string> warmFrom;
@@ -39,7 +39,8 @@ int printCreated(const CampaignCmd& o) {
 int printExtended(const CampaignCmd& o) {
     const auto j = experiments::extendCampaign(o.spec.place, o.spec.n, o.adaptive,
                                                o.criterion == "variance" ? experiments::AdaptiveCriterion::Variance
-                                                                         : experiments::AdaptiveCriterion::LooWeighted);
+                                                                         : experiments::AdaptiveCriterion::LooWeighted,
+                                               o.inset);
     if (o.json) {
         std::cout << j.dump(2) << '\n';
         return 0;
@@ -209,6 +210,11 @@ void addCampaign(CLI::App& app, Action& action) {
                    "With --adaptive: variance (the model's predictive variance) | loo-weighted (the variance times 1 + the "
                    "squared leave-one-out error of the nearest finished run over its mean: more points where the model misses its runs)")
         ->check(CLI::IsMember({"variance", "loo-weighted"}))
+        ->needs(adaptive)
+        ->capture_default_str();
+    xt->add_option("--inset", o->inset,
+                   "With --adaptive: candidates keep this share of each range's width (log-width for a log range) from the "
+                   "design box's faces, e.g. the margin the design's ranges were widened by (v2: 0.024); 0 to 0.25")
         ->needs(adaptive)
         ->capture_default_str();
     xt->add_option("--dir", o->spec.place.dir, "Where campaigns live")->capture_default_str();

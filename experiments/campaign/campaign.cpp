@@ -261,8 +261,9 @@ int sobolPointsOf(const Design& units, int k) {
 // Adds n points without repeating any: the Sobol sequence continues where the campaign stopped;
 // a Latin hypercube is augmented into the strata its points leave free; adaptive points go where
 // a kriging model of the finished runs is least sure.
-nlohmann::json extendCampaign(const CampaignPlace& o, int n, bool adaptive, AdaptiveCriterion by) {
+nlohmann::json extendCampaign(const CampaignPlace& o, int n, bool adaptive, AdaptiveCriterion by, double inset) {
     requireRange("n", n, 1, 100000);
+    requireRange("inset", inset, 0.0, 0.25);
     std::unique_ptr<store::Ledger> l;
     const auto c = openCampaign(o, l);
     const auto lock = designLock(o);
@@ -291,7 +292,11 @@ nlohmann::json extendCampaign(const CampaignPlace& o, int n, bool adaptive, Adap
         // Candidates: a Sobol set of 256 points per dimension (at least 1024), far along the
         // sequence so that it does not coincide with a Sobol design's own points.
         const int nc = std::max(1024, 256 * k);
-        const auto batch = mostUncertain(done, y, pending, sobol(nc, k, 100000), n, by);
+        // A variance criterion is largest on the box's faces; inset keeps the picks off them.
+        Design candidates = sobol(nc, k, 100000);
+        for (auto& u : candidates)
+            for (auto& x : u) x = inset + (1 - 2 * inset) * x;
+        const auto batch = mostUncertain(done, y, pending, candidates, n, by);
         nlohmann::json picks = nlohmann::json::array();
         for (const auto& p : batch.picks) {
             unit.push_back(p.unit);
@@ -303,6 +308,7 @@ nlohmann::json extendCampaign(const CampaignPlace& o, int n, bool adaptive, Adap
         out["adaptive"] = {{"quantity", quantity},
                            {"model", "kriging of log " + std::string(quantity) + " on " + std::to_string(done.size()) + " finished runs"},
                            {"criterion", by == AdaptiveCriterion::Variance ? "variance" : "loo-weighted"},
+                           {"inset", inset},
                            {"finished_runs", done.size()},
                            {"pending_runs", pending.size()},
                            {"loo_mean_abs_error_log", batch.looMeanAbsError},

@@ -63,8 +63,11 @@ nlohmann::json createCampaign(const CampaignSpec& spec);
 // where a kriging model of the finished runs' log quantity (mixer: loading_kg of steady runs;
 // collapse: runout_star) is least sure, given the points already queued (doe/adaptive), by the
 // model's variance alone or weighted by its leave-one-out errors nearby.
+// inset: adaptive candidates keep this share of the unit width (of each parameter's range, or of
+// its log-range) from every face of the design box, e.g. the margin by which the design's ranges
+// were widened beyond the user's, so that the picks stay where answers are asked for.
 nlohmann::json extendCampaign(const CampaignPlace& place, int n, bool adaptive = false,
-                              AdaptiveCriterion by = AdaptiveCriterion::Variance);
+                              AdaptiveCriterion by = AdaptiveCriterion::Variance, double inset = 0);
 // Mixer campaigns: n finished, steady design points spread over the design (farthest-point), each
 // queued again from a deposit of depositFactor times its loading. Their two results measure the
 // label noise of the steady test (campaignNoise). Throws InputError with too few such points.

@@ -253,6 +253,39 @@ TEST(Ledger, ReplicatesAndTheirNoise) {
     fs::remove_all(dir);
 }
 
+// Adaptive picks go to the box's faces, where a variance is largest; --inset keeps them off the
+// margin by which a design's box was widened beyond the user's (v2's first batch landed there). The
+// results are written by hand: a loading that falls with speed and rises with feed.
+TEST(Ledger, AdaptivePicksKeepTheirInsetFromTheBoxFaces) {
+    namespace ex = mixload::experiments;
+    const fs::path dir = fs::temp_directory_path() / ("mixload-inset-" + std::to_string(::getpid()));
+    const std::string ranges =
+        "scene = \"mixer\"\n[rpm]\nmin = 39\nmax = 254\nunit = \"rpm\"\n[feed_kg_h]\nmin = 5\nmax = 45\nunit = \"kg/h\"\n";
+    const auto spec = sobolMixerCampaign("inset", dir, 6, ranges);
+    {
+        Ledger l(spec.place.ledger());
+        while (auto r = l.claimNext("inset", 2, false)) {
+            const double m = 0.05 * r->params["feed_kg_h"].get<double>() / r->params["rpm"].get<double>() * 39;
+            l.markDone(r->id, {{"loading_kg", m}, {"steady", true}}, 1, 1, "/x");
+        }
+    }
+    // How far a pick lies from the nearest face, as a share of its range's width.
+    const auto faceDistance = [](const nlohmann::json& params) {
+        const double u = (params["rpm"].get<double>() - 39) / 215, v = (params["feed_kg_h"].get<double>() - 5) / 40;
+        return std::min({u, 1 - u, v, 1 - v});
+    };
+    EXPECT_THROW(ex::extendCampaign(spec.place, 2, true, ex::AdaptiveCriterion::Variance, 0.3), mixload::InputError);
+    const auto plain = ex::extendCampaign(spec.place, 3, true);
+    double nearest = 1;
+    for (const auto& p : plain["adaptive"]["picks"]) nearest = std::min(nearest, faceDistance(p["params"]));
+    EXPECT_LT(nearest, 0.02) << "without an inset the variance should pick a face";
+    const auto inset = ex::extendCampaign(spec.place, 3, true, ex::AdaptiveCriterion::Variance, 0.1);
+    ASSERT_EQ(inset["adaptive"]["picks"].size(), 3u);
+    EXPECT_EQ(inset["adaptive"]["inset"], 0.1);
+    for (const auto& p : inset["adaptive"]["picks"]) EXPECT_GE(faceDistance(p["params"]), 0.1 - 1e-12) << p.dump();
+    fs::remove_all(dir);
+}
+
 // A replicate that settles in another steady state (v2's 250 rpm point: a 0.110 kg bed, and from a
 // smaller deposit a 0.016 kg film) is not the steady test's scatter: the pair is flagged and kept
 // out of the noise, which the other pair alone gives.
