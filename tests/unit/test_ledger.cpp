@@ -153,9 +153,6 @@ TEST(Ledger, SurvivesSigkillDuringWrites) {
         if (r.status == "queued") EXPECT_EQ(r.attempts, 0) << "an interrupted attempt was counted";
 }
 
-// Replicates of a mixer campaign's finished points, and the label noise their pairs give. The
-// results are written into the ledger by hand: this checks the bookkeeping (which points, which
-// deposits, which pairs), not a solver.
 namespace {
 // A Sobol mixer campaign of n points on the calibrated scene, created in a fresh directory.
 mixload::experiments::CampaignSpec sobolMixerCampaign(const std::string& name, const fs::path& dir, int n,
@@ -173,12 +170,19 @@ mixload::experiments::CampaignSpec sobolMixerCampaign(const std::string& name, c
     mixload::experiments::createCampaign(spec);
     return spec;
 }
+
+// Speed and feed over the user's ranges: the box the tests below design in.
+const std::string kRpmFeedRanges =
+    "scene = \"mixer\"\n[rpm]\nmin = 39\nmax = 254\nunit = \"rpm\"\n[feed_kg_h]\nmin = 5\nmax = 45\nunit = \"kg/h\"\n";
 }  // namespace
 
+// Replicates of a mixer campaign's finished points, and the label noise their pairs give. The
+// results are written into the ledger by hand: this checks the bookkeeping (which points, which
+// deposits, which pairs), not a solver.
 TEST(Ledger, ReplicatesAndTheirNoise) {
     namespace ex = mixload::experiments;
     const fs::path dir = fs::temp_directory_path() / ("mixload-replicates-" + std::to_string(::getpid()));
-    const auto spec = sobolMixerCampaign("rep", dir, 6, "scene = \"mixer\"\n[rpm]\nmin = 39\nmax = 254\nunit = \"rpm\"\n[feed_kg_h]\nmin = 5\nmax = 45\nunit = \"kg/h\"\n");
+    const auto spec = sobolMixerCampaign("rep", dir, 6, kRpmFeedRanges);
     EXPECT_THROW(ex::replicateCampaign(spec.place, 2, 0.5), mixload::InputError);  // nothing finished yet
     {
         Ledger l(spec.place.ledger());
@@ -259,9 +263,7 @@ TEST(Ledger, ReplicatesAndTheirNoise) {
 TEST(Ledger, AdaptivePicksKeepTheirInsetFromTheBoxFaces) {
     namespace ex = mixload::experiments;
     const fs::path dir = fs::temp_directory_path() / ("mixload-inset-" + std::to_string(::getpid()));
-    const std::string ranges =
-        "scene = \"mixer\"\n[rpm]\nmin = 39\nmax = 254\nunit = \"rpm\"\n[feed_kg_h]\nmin = 5\nmax = 45\nunit = \"kg/h\"\n";
-    const auto spec = sobolMixerCampaign("inset", dir, 6, ranges);
+    const auto spec = sobolMixerCampaign("inset", dir, 6, kRpmFeedRanges);
     {
         Ledger l(spec.place.ledger());
         while (auto r = l.claimNext("inset", 2, false)) {
