@@ -5,8 +5,10 @@
 # keeps the top-level records (scene, mesh, start, slices, result), system/, constant/ without
 # the meshing surfaces, the latest whole time directory (what the solver resumes from, its
 # monitor's state included) and postProcessing/ with each history thinned evenly to at most 5 000
-# lines (first and last kept; the steady test reads the monitor's own samples, not these). Logs
-# and earlier times stay behind. Land only a stopped study: a running solver may be writing.
+# lines (first and last kept; the steady test reads the monitor's own samples, not these). Logs,
+# earlier times and loading_history.dat (the run's plot data, rewritten from postProcessing/ when
+# the run finishes: a fifth of the pack) stay behind. Land only a stopped study: a running solver
+# may be writing.
 set -euo pipefail
 [ $# -eq 2 ] || { echo "usage: $0 OUT DEST.tar.xz" >&2; exit 2; }
 out=$(cd "$1" && pwd); dest=$2
@@ -19,7 +21,7 @@ stage=$tmp/study; mkdir -p "$stage/runs"
 find "$out" -maxdepth 1 -type f -exec cp {} "$stage/" \;
 for run in "$out"/runs/*/; do
   run=${run%/}; d=$stage/runs/$(basename "$run"); mkdir -p "$d"
-  find "$run" -maxdepth 1 -type f ! -name 'log.*' -exec cp {} "$d/" \;
+  find "$run" -maxdepth 1 -type f ! -name 'log.*' ! -name 'loading_history.dat' -exec cp {} "$d/" \;
   [ -d "$run/system" ] && cp -r "$run/system" "$d/"
   if [ -d "$run/constant" ]; then
     mkdir -p "$d/constant"
