@@ -36,7 +36,8 @@ all_driver_jobs() {  # the --jobs of every running driver, summed: the solvers t
 hours_left() { python3 -c "print(max(0.0, ($end - $(date +%s)) / 3600))"; }
 
 while [ "$(date +%s)" -lt $((end - 120)) ]; do
-  solvers=$(pgrep -fc "mixloadInterFoam" || true)
+  # The solver processes alone: a compiler building mixloadInterFoam names it in its arguments too.
+  solvers=$(pgrep -fc '^[^ ]*mixloadInterFoam( |$)' || true)
   if [ "$solvers" -lt "$cores" ]; then idle=$((idle + 1)); else idle=0; fi
   if [ $idle -ge 2 ] || ! pgrep -f "mixload (campaign run|study )" >/dev/null; then
     started=0

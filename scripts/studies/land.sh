@@ -13,7 +13,14 @@ set -euo pipefail
 [ $# -eq 2 ] || { echo "usage: $0 OUT DEST.tar.xz" >&2; exit 2; }
 out=$(cd "$1" && pwd); dest=$2
 [ -d "$out/runs" ] || { echo "land: $out holds no runs/ (not a study directory)" >&2; exit 2; }
-if pgrep -f "mixloadInterFoam.*$out" >/dev/null || pgrep -af "study mixer" | grep -q -- "--out $1"; then
+solver_in_out() {  # a solver runs in a case below $out (its command line names no case: its cwd does)
+  local pid
+  for pid in $(pgrep -f '^[^ ]*mixloadInterFoam( |$)'); do
+    case "$(readlink "/proc/$pid/cwd")" in "$out"/*) return 0 ;; esac
+  done
+  return 1
+}
+if solver_in_out || pgrep -af "study " | grep -q -- "--out $1"; then
   echo "land: the study in $out is running; stop it first (its --max-hours, or SIGTERM)" >&2; exit 2
 fi
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
