@@ -12,6 +12,7 @@
 #include "bench/mixer_steady_bench.hpp"
 #include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
+#include "post/mixer_results.hpp"
 #include "run/collapse_job.hpp"
 #include "run/mixer_job.hpp"
 
@@ -50,7 +51,7 @@ std::pair<double, double> parsePoint(const std::string& text) {
 nlohmann::json mixerRow(const scene::MixerScene& s, const nlohmann::json& r, int np) {
     const bool lts = s.method == "lts";
     const double solver = r["solver_wall_seconds"].get<double>();
-    const double span = r["end_time_s"].get<double>();
+    const double span = r["end_time_s"].get<double>() - post::startTime(r);
     nlohmann::json row{{"method", s.method},
                        {"cells", r["cells"]},
                        {"np", np},

@@ -10,6 +10,7 @@
 
 #include "common/atomic_file.hpp"
 #include "common/gnuplot.hpp"
+#include "post/mixer_results.hpp"
 #include "studies/study_rows.hpp"
 
 namespace mixload::experiments {
@@ -21,7 +22,7 @@ namespace {
 constexpr double kPaperLow = -18.0, kPaperHigh = -14.0;
 
 nlohmann::json costOf(const nlohmann::json& r) {
-    const double wall = r.value("wall_seconds", 0.0), sim = r.value("end_time_s", 0.0);
+    const double wall = r.value("wall_seconds", 0.0), sim = r.value("end_time_s", 0.0) - post::startTime(r);
     return {{"wall_s", wall}, {"wall_per_simulated_s", sim > 0 ? nlohmann::json(wall / sim) : nlohmann::json()}};
 }
 
@@ -83,7 +84,10 @@ std::string writeMethodsComparison(const fs::path& out, const nlohmann::json& pa
            << (ok ? "yes" : "no (not steady or not conserved)") << " | "
            << tableCell(cm["wall_per_simulated_s"], "%.1f") << " / " << tableCell(cs["wall_per_simulated_s"], "%.1f")
            << " | " << tableCell(cm["wall_s"], "%.0f") << " / " << tableCell(cs["wall_s"], "%.0f") << " | "
-           << (p["sm_start"] == "mrf" ? "MRF's fields (its wall time adds to SM's)" : "the deposit") << " |\n";
+           << (p["sm_start"] == "mrf" ? "MRF's fields (its wall time adds to SM's)"
+               : p["sm_start"] == "sm" ? "SM at the next higher feed (its wall time adds to this one's)"
+                                       : "the deposit")
+           << " |\n";
         const double rpm = p["rpm"].get<double>(), feed = p["feed_kg_h"].get<double>();
         maxFeed = std::max(maxFeed, feed);
         loadings[rpm] << feed << ' ' << p["mrf_loading_kg"].get<double>() << ' '

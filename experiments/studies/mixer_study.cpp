@@ -13,6 +13,7 @@
 #include "common/process.hpp"
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
+#include "post/mixer_results.hpp"
 #include "run/foam_runner.hpp"
 #include "run/mixer_job.hpp"
 #include "studies/methods_comparison.hpp"
@@ -146,6 +147,7 @@ std::vector<nlohmann::json> runMixerScenes(const std::vector<scene::MixerScene>&
                                   "dense_loading_kg", "warning", "end_time_s", "cells", "wall_seconds",
                                   "core_seconds", "error", "stopped", "run_dir", "history"})
                 if (r.contains(k)) out[i][k] = r[k];
+            if (r.contains("end_time_s")) out[i]["start_time_s"] = post::startTime(r);
         });
     return out;
 }
@@ -296,7 +298,8 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
            << (steady ? tableCell(r["steady_time_s"], "%.1f") : "-") << " | "
            << tableCell(r["outflow_kg_h"], "%.2f") << " | " << tableCell(leak, "%.3g")
            << (ok.is_null() || ok.get<bool>() ? "" : " (leaks)") << " | "
-           << tableCell(r["end_time_s"], "%.4g") << (r["method"] == "lts" ? " it" : " s") << " | "
+           << tableCell(r["end_time_s"], "%.4g") << (r["method"] == "lts" ? " it" : " s")
+           << (r.value("start_time_s", 0.0) > 0 ? " (from " + tableCell(r["start_time_s"], "%.4g") + ")" : "") << " | "
            << tableCell(r["wall_seconds"], "%.0f") << " | " << tableCell(r["core_seconds"], "%.0f") << " |\n";
     }
     writeFileAtomic(study.out / "table.csv", csv.str());

@@ -139,6 +139,8 @@ nlohmann::json mixerResult(const scene::MixerScene& s, const fs::path& caseDir) 
                      {"rpm", s.rpm},
                      {"initial_loading_kg", first.loading},
                      {"final_loading_kg", last.loading},
+                     // A run continued from another run's time starts there, not at 0.
+                     {"start_time_s", first.t},
                      {"end_time_s", end},
                      {"window", W},
                      {"time_unit", lts ? "iteration" : "s"},
@@ -199,6 +201,13 @@ nlohmann::json mixerResult(const scene::MixerScene& s, const fs::path& caseDir) 
     r["final_max_powder_speed_m_s"] = last.maxPowderSpeed;
     if (verdict && r["steady"].get<bool>()) r["steady_verdict"] = *verdict;
     return r;
+}
+
+double startTime(const nlohmann::json& result) {
+    if (result.contains("start_time_s")) return result["start_time_s"].get<double>();
+    const auto h = result.find("history");
+    if (h != result.end() && h->is_array() && !h->empty()) return (*h)[0][0].get<double>();
+    return 0.0;
 }
 
 void addWarning(nlohmann::json& result, const std::string& warning) {

@@ -29,6 +29,11 @@ nlohmann::json readCheckMesh(const std::filesystem::path& caseDir);
 // The result record of a mixer run (without timings).
 nlohmann::json mixerResult(const scene::MixerScene& s, const std::filesystem::path& caseDir);
 
+// Where a mixer result's own simulation started [s]: start_time_s, or for results written before
+// it was recorded the first time of their history, else 0. Costs per simulated second divide by
+// end_time_s minus this, so a run that continued another's time is charged only its own seconds.
+double startTime(const nlohmann::json& result);
+
 // Adds a warning to a result: warnings accumulate in one "warning" string, separated by "; ".
 void addWarning(nlohmann::json& result, const std::string& warning);
 

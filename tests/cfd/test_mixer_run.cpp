@@ -453,6 +453,9 @@ TEST(MixerRun, SmFromSmContinuesAtTheSourcesTimeAndAngle) {
     const auto history = b["history"];
     EXPECT_NEAR(history[0][0].get<double>(), a["end_time_s"].get<double>(), 0.01) << history[0];
     EXPECT_NEAR(b["end_time_s"].get<double>(), a["end_time_s"].get<double>() + 0.1, 0.01) << b.dump();
+    // Its result says where its own seconds start, so its cost per simulated second counts 0.1 s.
+    EXPECT_DOUBLE_EQ(b["start_time_s"].get<double>(), history[0][0].get<double>()) << b.dump();
+    EXPECT_NEAR(a["start_time_s"].get<double>(), 0.0, 0.01) << a.dump();
     // The first recorded loading is the source's last plus what the new run's first step fed and
     // let out: the powder was copied, not mapped.
     const fs::path monitor = fs::path(b["run_dir"].get<std::string>()) / "postProcessing" / "loading";

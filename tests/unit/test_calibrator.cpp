@@ -204,6 +204,27 @@ TEST(Fig7, WithoutItsOwnRunsI0MirrorsTheDRuns) {
     for (const auto& v : similar) EXPECT_FALSE(v.factors.count("i0")) << v.name;
 }
 
+TEST(MethodsComparison, ChargesAContinuedRunOnlyItsOwnSeconds) {
+    // An SM run that continued the next higher feed's run at 126 s and ran to 244 s in 9 000 s of
+    // wall: 76 s of wall per simulated second, not 37 (its end time over all of it). A result
+    // written before start_time_s was recorded falls back to its history's first time.
+    nlohmann::json mrf{{"method", "mrf"}, {"mesh", "0.02 m"}, {"rpm", 39.0}, {"feed_kg_h", 30.0},
+                       {"initial_loading_kg", 0.32}, {"loading_kg", 0.5}, {"steady", true},
+                       {"wall_seconds", 900.0}, {"end_time_s", 100.0}, {"start_time_s", 0.0}};
+    nlohmann::json sm{{"method", "sm"}, {"mesh", "0.02 m"}, {"rpm", 39.0}, {"feed_kg_h", 30.0},
+                      {"initial_loading_kg", 0.32}, {"loading_kg", 0.85}, {"steady", true}, {"start", "sm"},
+                      {"wall_seconds", 9000.0}, {"end_time_s", 244.0}, {"start_time_s", 126.0}};
+    auto p = compareMethods(nlohmann::json::array({mrf, sm}));
+    ASSERT_EQ(p.size(), 1u);
+    EXPECT_NEAR(p[0]["sm_cost"]["wall_per_simulated_s"].get<double>(), 9000.0 / 118.0, 1e-9);
+    EXPECT_NEAR(p[0]["mrf_cost"]["wall_per_simulated_s"].get<double>(), 9.0, 1e-12);
+    EXPECT_EQ(p[0]["sm_start"], "sm");
+    sm.erase("start_time_s");
+    sm["history"] = nlohmann::json::array({nlohmann::json::array({126.0, 0.92}), nlohmann::json::array({244.0, 0.85})});
+    p = compareMethods(nlohmann::json::array({mrf, sm}));
+    EXPECT_NEAR(p[0]["sm_cost"]["wall_per_simulated_s"].get<double>(), 9000.0 / 118.0, 1e-9);
+}
+
 TEST(MethodsComparison, PairsMrfWithSmAtTheSamePointOnly) {
     // Two points with both methods (one of them not steady), one with mrf alone: two entries, the
     // difference relative to SM, the paper's band checked, costs per simulated second.
