@@ -84,9 +84,10 @@ std::string writeMethodsComparison(const fs::path& out, const nlohmann::json& pa
            << (ok ? "yes" : "no (not steady or not conserved)") << " | "
            << tableCell(cm["wall_per_simulated_s"], "%.1f") << " / " << tableCell(cs["wall_per_simulated_s"], "%.1f")
            << " | " << tableCell(cm["wall_s"], "%.0f") << " / " << tableCell(cs["wall_s"], "%.0f") << " | "
-           << (p["sm_start"] == "mrf" ? "MRF's fields (its wall time adds to SM's)"
-               : p["sm_start"] == "sm" ? "SM at the next higher feed (its wall time adds to this one's)"
-                                       : "the deposit")
+           << startLabel(p["sm_start"])
+           << (p["sm_start"] == "mrf"  ? " (its wall time adds to SM's)"
+               : p["sm_start"] == "sm" ? " (its wall time adds to this one's)"
+                                       : "")
            << " |\n";
         const double rpm = p["rpm"].get<double>(), feed = p["feed_kg_h"].get<double>();
         maxFeed = std::max(maxFeed, feed);

@@ -289,9 +289,7 @@ nlohmann::json runMixerStudy(const MixerStudy& study) {
             << ',' << r["wall_seconds"] << ',' << r["core_seconds"] << ','
             << (zone.is_null() ? "" : zone.dump()) << ',' << (dense.is_null() ? "" : dense.dump()) << '\n';
         md << "| " << head << " | " << r["cells"] << " | " << r["rpm"] << " | " << r["feed_kg_h"]
-           << " | " << (startOf(r) == "mrf"  ? std::string("MRF's fields")
-                  : startOf(r) == "sm" ? std::string("sm at the next higher feed")
-                                       : r["initial_loading_kg"].dump())
+           << " | " << (startOf(r) == "deposit" ? r["initial_loading_kg"].dump() : startLabel(startOf(r)))
            << " | " << tableCell(r["loading_kg"], "%.4f") << (steady ? "" : " (not steady)")
            << " | " << tableCell(r["loading_std_kg"], "%.1e") << " | " << tableCell(share(zone), "%.0f%%")
            << " | " << tableCell(share(dense), "%.0f%%") << " | "

@@ -18,6 +18,11 @@ inline bool isResult(const nlohmann::json& r) {
 // next higher feed (--sm-down-feeds), else "deposit".
 inline std::string startOf(const nlohmann::json& r) { return r.value("start", "deposit"); }
 
+// How the study's tables name a start (one wording for `study mixer` and the methods table).
+inline std::string startLabel(const std::string& start) {
+    return start == "mrf" ? "MRF's fields" : start == "sm" ? "SM at the next higher feed" : "the deposit";
+}
+
 // A number of a result as a markdown table cell in printf format, "-" when the result has none.
 inline std::string tableCell(const nlohmann::json& v, const char* format) {
     if (v.is_null()) return "-";

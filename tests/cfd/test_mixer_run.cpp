@@ -297,7 +297,7 @@ TEST(MixerRun, StudySmDownFeedsContinuesTheHigherFeedsRun) {
     EXPECT_EQ(fs::canonical(start["warm_from"].get<std::string>()), fs::canonical(sm45["run_dir"].get<std::string>()));
     EXPECT_EQ(start["mapped"], "continued at the source's time");
     EXPECT_TRUE(sm15["powder_balance_ok"].get<bool>()) << sm15.dump();
-    EXPECT_NE(mixload::readFile(out / "table.md").find("sm at the next higher feed"), std::string::npos);
+    EXPECT_NE(mixload::readFile(out / "table.md").find("SM at the next higher feed"), std::string::npos);
     // Without --sm-from-mrf there is no chain to start: refused before any run.
     const auto bad = runMixload({"study", "mixer", "--scene", "gcm250-v2", "--cell-size", "0.02", "--methods", "sm",
                                  "--rpms", "162", "--feeds", "15,45", "--sm-down-feeds", "--out",
