@@ -50,10 +50,15 @@ int runProcess(const ProcessSpec& spec) {
         // The parent may have died before prctl: the orphan then belongs to init or to a
         // subreaper, whatever its pid.
         if (::getppid() != parent) _exit(127);
-        ::close(fds[0]);
         ::dup2(fds[1], STDOUT_FILENO);
         ::dup2(fds[1], STDERR_FILENO);
-        ::close(fds[1]);
+        // Nothing else the parent has open goes with the child. A campaign's second worker may be
+        // writing or reading an HDF5 file at this fork: a copy of that descriptor in the solver
+        // would hold the file's lock for the solver's whole life (2026-12-04: point 8 of v2-holdout
+        // then could not open its own start, "unable to lock the file", and lost its first attempt),
+        // and a copy of the other worker's pipe would keep that worker's solver output from ending.
+        if (::close_range(3, ~0U, 0) != 0)
+            for (int fd = 3, n = static_cast<int>(::sysconf(_SC_OPEN_MAX)); fd < n; ++fd) ::close(fd);
         if (!spec.cwd.empty()) {
             if (::chdir(spec.cwd.c_str()) != 0) _exit(127);
             // OpenFOAM warns on every stack frame when PWD disagrees with the real cwd.

@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -72,6 +74,24 @@ TEST(Common, RunProcessCapturesLinesAndExitCode) {
     EXPECT_EQ(runProcess(spec), 3);
     ASSERT_EQ(lines.size(), 2u);
     EXPECT_EQ(lines[1], "two");
+}
+
+TEST(Common, RunProcessGivesTheChildNoOtherDescriptor) {
+    // A descriptor the parent holds (an HDF5 file another worker has open, with its lock) must not
+    // live on in the child.
+    const auto dir = std::filesystem::temp_directory_path() / "mixload-test-fds";
+    std::filesystem::create_directories(dir);
+    const int held = ::open((dir / "held").c_str(), O_CREAT | O_WRONLY, 0644);
+    ASSERT_GE(held, 3);
+    ProcessSpec spec;
+    std::vector<std::string> lines;
+    spec.argv = {"sh", "-c", "ls /proc/$$/fd"};
+    spec.onLine = [&](const std::string& l) { lines.push_back(l); };
+    EXPECT_EQ(runProcess(spec), 0);
+    ::close(held);
+    std::filesystem::remove_all(dir);
+    for (const auto& l : lines) EXPECT_LE(std::stoi(l), 2) << "the child has descriptor " << l << " open";
+    EXPECT_EQ(lines.size(), 3u);
 }
 
 TEST(Common, ParseNumberTakesOnlyWholeStrings) {
