@@ -72,7 +72,11 @@ int printStatus(const CampaignCmd& o) {
               << n["running"] << " running, " << n["queued"] << " queued, " << n["failed"] << " failed; "
               << j["core_seconds_done"].get<double>() << " core-seconds so far\n";
     for (const auto& u : j["unfinished"]) {
-        std::cout << "  point " << u["index"] << " (" << u["status"].get<std::string>() << "): " << u["time_s"].get<double>()
+        const std::string attempt = u.value("attempt", "first");
+        std::cout << "  point " << u["index"] << " ("
+                  << (attempt == "first, left" ? std::string("first attempt, left behind by its retry")
+                                               : u["status"].get<std::string>() + (attempt == "retry" ? ", retry" : ""))
+                  << "): " << u["time_s"].get<double>()
                   << " s of flow";
         if (u["flow_before_s"].get<double>() > 0)
             std::cout << " (" << u["time_s"].get<double>() + u["flow_before_s"].get<double>() << " s on the point)";

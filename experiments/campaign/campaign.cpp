@@ -478,7 +478,11 @@ nlohmann::json campaignStatus(const CampaignPlace& o, const std::vector<Campaign
                     const double span = last.t - before->t;
                     const double flowBefore = flowBeforeRun(e.path());
                     flowDone[r.index] = flowBefore + last.t;
-                    unfinished.push_back({{"index", r.index}, {"status", r.status}, {"run_dir", e.path().string()},
+                    // A retry runs in a directory of its own: the first attempt's, named by the
+                    // point's scene hash, is then left behind and no longer runs.
+                    const bool firstAttemptDir = name == std::to_string(r.index) + "-" + r.params.value("scene_hash", "");
+                    const std::string attempt = firstAttemptDir ? (r.attempts > 1 ? "first, left" : "first") : "retry";
+                    unfinished.push_back({{"index", r.index}, {"status", r.status}, {"attempt", attempt}, {"run_dir", e.path().string()},
                                           {"time_s", last.t}, {"flow_before_s", flowBefore}, {"loading_kg", last.loading},
                                           {"loading_10s_before_kg", before->loading},
                                           {"outflow_kg_h", span > 0 ? (last.out - before->out) / span * 3600.0 : last.outflow * 3600.0},

@@ -514,6 +514,22 @@ TEST(CampaignCli, AMixerRunStoppedAndResumedCountsBothSlices) {
     EXPECT_EQ(unfinished[0]["index"], 0);
     EXPECT_GT(unfinished[0]["time_s"].get<double>(), 0.0);
     EXPECT_GT(unfinished[0]["loading_kg"].get<double>(), 0.0);
+    EXPECT_EQ(unfinished[0]["attempt"], "first");
+    // Failed once and claimed again, the point is a retry: its first attempt's directory is then left
+    // behind, and status says so. Requeued, it is a first attempt in that directory again.
+    {
+        mixload::store::Ledger l(dir / "s" / "ledger.sqlite");
+        const auto first = l.claimNext("s", 2, false);
+        ASSERT_TRUE(first);
+        l.markFailed(first->id, "a first attempt that failed", false);
+        ASSERT_TRUE(l.claimNext("s", 2, false));
+    }
+    r = runMixload({"campaign", "status", "s", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["unfinished"][0]["attempt"], "first, left") << r.out;
+    r = runMixload({"campaign", "status", "s", "--dir", dir.string()});
+    EXPECT_NE(r.out.find("point 0 (first attempt, left behind by its retry)"), std::string::npos) << r.out;
+    ASSERT_EQ(runMixload({"campaign", "requeue", "s", "--point", "0", "--dir", dir.string()}).rc, 0);
     r = runMixload({"campaign", "run", "s", "--dir", dir.string(), "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
     ASSERT_EQ(nlohmann::json::parse(r.out)["counts"]["done"], 1) << r.out;
