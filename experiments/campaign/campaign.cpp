@@ -477,11 +477,11 @@ nlohmann::json campaignStatus(const CampaignPlace& o, const std::vector<Campaign
                     while (std::next(before) != history.end() && std::next(before)->t <= last.t - 10.0) ++before;
                     const double span = last.t - before->t;
                     const double flowBefore = flowBeforeRun(e.path());
-                    flowDone[r.index] = flowBefore + last.t;
                     // A retry runs in a directory of its own: the first attempt's, named by the
                     // point's scene hash, is then left behind and no longer runs.
                     const bool firstAttemptDir = name == std::to_string(r.index) + "-" + r.params.value("scene_hash", "");
                     const std::string attempt = firstAttemptDir ? (r.attempts > 1 ? "first, left" : "first") : "retry";
+                    if (attempt != "first, left") flowDone[r.index] = flowBefore + last.t;  // what the forecast counts
                     unfinished.push_back({{"index", r.index}, {"status", r.status}, {"attempt", attempt}, {"run_dir", e.path().string()},
                                           {"time_s", last.t}, {"flow_before_s", flowBefore}, {"loading_kg", last.loading},
                                           {"loading_10s_before_kg", before->loading},
