@@ -1,7 +1,8 @@
 #!/bin/bash
 # land.sh DIR NAME [MIXLOAD]: copies a live campaign DIR/NAME into data/campaigns/mixer-NAME
 # (ledger by SQLite's online backup, kept final fields, kept progress) and its export
-# data/campaigns/mixer-NAME.csv, ready to commit, and checks the shipped kriging model against it.
+# data/campaigns/mixer-NAME.csv, ready to commit, checks the shipped kriging model against it and,
+# for v2-holdout, redraws docs/studies/rom/pareto-mixer-1cm.
 # Safe while its driver runs.
 set -euo pipefail
 [ $# -ge 2 ] || { echo "usage: $0 DIR NAME [MIXLOAD]" >&2; exit 2; }
@@ -21,4 +22,10 @@ done
 # recorded again.
 model=$here/data/models/mixer-loading-kriging.json
 [ -f "$model" ] && { "$mixload" check --model "$model" --table "$dst.csv" || true; }
+# The hold-out's time-against-error table on 1 cm (issue 19) is redrawn with every landing, when
+# the training campaign and the 2 cm twin are in DIR as well (scripts/campaigns/restore.sh).
+if [ "$name" = v2-holdout ] && [ -d "$dir/v2" ] && [ -d "$dir/v2c-holdout" ]; then
+  "$mixload" bench pareto-mixer --campaign v2 --holdout v2-holdout --coarse v2c-holdout --dir "$dir" \
+    --out "$here/docs/studies/rom/pareto-mixer-1cm" > /dev/null
+fi
 "$mixload" campaign status "$name" --dir "$dir"
