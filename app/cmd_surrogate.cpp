@@ -2,6 +2,7 @@
 // mixload surrogate fit|info and mixload check.
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -11,6 +12,7 @@
 #include "app/commands.hpp"
 #include "app/point_options.hpp"
 #include "check.hpp"
+#include "check_plot.hpp"
 #include "common/clock.hpp"
 #include "common/input_error.hpp"
 #include "mixload_version.hpp"
@@ -28,7 +30,7 @@ struct SurrogateCmd {
     std::vector<int> sizes;
     std::vector<std::string> trendInputs;
     double target = 0.03, noise = 0;
-    std::string out = "runs/surrogates/curve";
+    std::string out = "runs/surrogates/curve", plot;
     unsigned seed = 1;
     bool noSelect = false, json = false, noRecord = false, similarity = false, listRuns = false;
     std::optional<double> threshold;
@@ -287,7 +289,7 @@ void printRuns(const nlohmann::json& r) {
 }  // namespace
 
 int runCheck(const std::string& modelPath, const std::string& campaign, const std::string& dir, const std::string& table,
-             std::optional<double> threshold, bool record, bool json, bool quiet, bool listRuns) {
+             std::optional<double> threshold, bool record, bool json, bool quiet, bool listRuns, const std::string& plotDir) {
     auto m = surrogates::Surrogate::load(modelPath);
     SurrogateCmd o;
     o.campaign = campaign;
@@ -359,6 +361,19 @@ int runCheck(const std::string& modelPath, const std::string& campaign, const st
                               {"git_commit", kGitCommit}});
         m.save(modelPath);
     }
+    if (!plotDir.empty()) {
+        std::ostringstream title;
+        // The title carries the hold-out's figures, or the leave-one-out's when every run trained the model.
+        const bool held = r["n_holdout"].get<int>() > 0;
+        const auto& f = held ? r : r["loo"];
+        title << std::filesystem::path(modelPath).filename().string() << ": " << (held ? r["n_holdout"] : r["loo"]["n"])
+              << (held ? " hold-out runs" : " training runs, leave-one-out") << ", mean " << pct(f["mean_rel_error"]) << ", max "
+              << pct(f["max_rel_error"]) << ", 95% coverage " << pct(f["coverage95"]);
+        std::string warning;
+        const auto png = surrogates::plotCheck(r, title.str(), plotDir, warning);
+        r["plot"] = png ? nlohmann::json(png->string()) : nlohmann::json();
+        if (!png) std::cerr << "mixload: warning: no parity plot: " << warning << '\n';
+    }
     const bool failed = threshold && !r["mean_rel_error"].is_null() && r["mean_rel_error"].get<double>() > *threshold;
     r["passed"] = !failed;
     if (quiet) {
@@ -383,6 +398,7 @@ int runCheck(const std::string& modelPath, const std::string& campaign, const st
                       << " replicate pairs, campaign noise): one run's scatter " << pct(r["label_noise"]["run_noise"])
                       << ", a floor under any model's error at such points\n";
         if (listRuns) printRuns(r);
+        if (r.contains("plot") && !r["plot"].is_null()) std::cout << "  plot: " << r["plot"].get<std::string>() << '\n';
         if (record) std::cout << "  recorded in the model's check history\n";
         if (alreadyRecorded)
             std::cout << "  already in the model's check history (" << history.back()["date_utc"].get<std::string>()
@@ -459,11 +475,12 @@ void addSurrogate(CLI::App& app, Action& action) {
     c->add_option("--threshold", o->threshold, "Exit 1 when the mean hold-out relative error exceeds this (e.g. 0.05)");
     c->add_flag("--no-record", o->noRecord, "Do not append the result to the model's check history");
     c->add_flag("--runs", o->listRuns, "Also list every run (inputs, M, the model's answer, error), worst first");
+    c->add_option("--plot", o->plot, "Directory for parity.png: each run's M against the model's answer and its 95% interval");
     c->add_flag("--json", o->json, "Print JSON");
     c->callback([&action, o] {
         action = [o] {
             return runCheck(o->model.empty() ? defaultModelPath() : o->model, o->campaign, o->dir, o->table, o->threshold,
-                            !o->noRecord, o->json, false, o->listRuns);
+                            !o->noRecord, o->json, false, o->listRuns, o->plot);
         };
     });
 }

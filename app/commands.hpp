@@ -29,8 +29,9 @@ void addStress(CLI::App& app, Action& action);
 
 // `mixload check`: compares the model with the runs of a campaign (or table, or the model's own
 // campaign when both are empty), records the result in the model unless !record; 1 when the mean
-// hold-out error exceeds threshold. listRuns adds a table of every run, worst first.
+// hold-out error exceeds threshold. listRuns adds a table of every run, worst first; a plotDir gets
+// the parity plot (parity.png).
 int runCheck(const std::string& modelPath, const std::string& campaign, const std::string& dir,
              const std::string& table, std::optional<double> threshold, bool record, bool json,
-             bool quiet = false, bool listRuns = false);
+             bool quiet = false, bool listRuns = false, const std::string& plotDir = "");
 }  // namespace mixload::app

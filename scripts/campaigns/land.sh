@@ -21,7 +21,8 @@ done
 # checked (by the driver's --check, or an earlier landing) give the same figures and are not
 # recorded again.
 model=$here/data/models/mixer-loading-kriging.json
-[ -f "$model" ] && { "$mixload" check --model "$model" --table "$dst.csv" || true; }
+# Its parity plot (each run's M against the model's answer) goes to docs/studies/surrogates/check-NAME.
+[ -f "$model" ] && { "$mixload" check --model "$model" --table "$dst.csv" --plot "$here/docs/studies/surrogates/check-$name" || true; }
 # The hold-out's time-against-error table on 1 cm (issue 19) is redrawn with every landing, when
 # the training campaign and the 2 cm twin are in DIR as well (scripts/campaigns/restore.sh).
 if [ "$name" = v2-holdout ] && [ -d "$dir/v2" ] && [ -d "$dir/v2c-holdout" ]; then

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iomanip>
 #include <random>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -175,6 +176,24 @@ TEST(SurrogateCli, FitPredictWhatifCheck) {
     const auto listed = r.out.substr(r.out.find("worst first"));
     const auto firstRow = listed.find('\n', listed.find('\n') + 1) + 1;  // after the title and the header
     EXPECT_EQ(listed.substr(firstRow, worstId.size() + 2), "  " + worstId) << listed;
+    // --plot draws every checked run: one data row per run, the runs outside their interval apart.
+    r = runMixload({"check", "--model", model.string(), "--table", table.string(), "--no-record", "--plot", (dir / "parity").string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["plot"], (dir / "parity" / "parity.png").string());
+    EXPECT_TRUE(fs::exists(dir / "parity" / "parity.png"));
+    {
+        std::istringstream dat(mixload::readFile(dir / "parity" / "parity.dat"));
+        int rows = 0, outsideRows = -1;
+        for (std::string line; std::getline(dat, line);) {
+            if (line.rfind("# hold-out, outside", 0) == 0) outsideRows = 0;
+            else if (!line.empty() && line[0] != '#') ++rows, outsideRows += outsideRows >= 0;
+        }
+        EXPECT_EQ(rows, 8 + 32);
+        int outside = 0;
+        for (const auto& e : j["holdout"])
+            outside += e["loading_kg"] < e["ci95_kg"][0] || e["loading_kg"] > e["ci95_kg"][1];
+        EXPECT_EQ(std::max(outsideRows, 0), outside);
+    }
     r = runMixload({"check", "--model", model.string(), "--table", table.string(), "--threshold", "1e-9"});
     EXPECT_EQ(r.rc, 1);
     EXPECT_NE(r.err.find("exceeds --threshold"), std::string::npos) << r.err;
