@@ -16,6 +16,7 @@ nlohmann::json checkModel(const Surrogate& model, const Table& runs) {
     nlohmann::json looList = nlohmann::json::array();
     // One entry per run, with its inputs, so that a user sees which runs a model misses.
     const auto entry = [](const Row& r, double m, double lo, double hi) {
+        const auto in95 = covers(r.m, lo, hi);
         nlohmann::json in;
         for (int k = 0; k < kInputs; ++k) in[kInputSpecs[k].name] = r.x[k];
         return nlohmann::json{{"id", r.id},
@@ -23,6 +24,7 @@ nlohmann::json checkModel(const Surrogate& model, const Table& runs) {
                               {"loading_kg", r.m},
                               {"predicted_kg", m},
                               {"ci95_kg", {lo, hi}},
+                              {"in_ci95", in95 ? nlohmann::json(*in95) : nlohmann::json()},
                               {"rel_error", std::abs(m - r.m) / std::abs(r.m)}};
     };
     for (const auto& r : runs.rows) {

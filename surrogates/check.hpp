@@ -12,7 +12,7 @@ namespace mixload::surrogates {
 // {"n_holdout", "mean_rel_error", "max_rel_error", "coverage95", "holdout": [...],
 //  "loo": {"n", "mean_rel_error", "max_rel_error", "coverage95", "runs": [...]}}; errors are null
 // without runs. Each run: id, inputs, loading_kg, predicted_kg (leave-one-out for training runs),
-// ci95_kg, rel_error, and for hold-out runs in_training_box.
+// ci95_kg, in_ci95 (null without an interval), rel_error, and for hold-out runs in_training_box.
 nlohmann::json checkModel(const Surrogate& model, const Table& runs);
 
 }  // namespace mixload::surrogates

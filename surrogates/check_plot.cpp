@@ -28,27 +28,24 @@ std::optional<std::filesystem::path> plotCheck(const nlohmann::json& check, cons
     Set inside{"hold-out, inside its 95% interval", "pt 7 ps 1.3 lc rgb '#1f77b4'", {}};
     Set outside{"hold-out, outside its 95% interval", "pt 5 ps 1.3 lc rgb '#d62728'", {}};
     Set loo{"training runs, leave-one-out", "pt 6 ps 1.0 lc rgb '#7f7f7f'", {}};
-    const auto held = [](const nlohmann::json& e) {
-        const double m = e["loading_kg"], lo = orNan(e["ci95_kg"][0]), hi = orNan(e["ci95_kg"][1]);
-        return !(m < lo) && !(m > hi);  // a run without an interval counts as held
-    };
-    // Pointers into `check` itself: the sets are read after these loops.
-    for (const auto& e : check.at("holdout")) (held(e) ? inside : outside).runs.push_back(&e);
+    // Pointers into `check` itself: the sets are read after these loops. A run without an interval
+    // (in_ci95 null) is not drawn as a miss.
+    for (const auto& e : check.at("holdout")) (e.at("in_ci95") == false ? outside : inside).runs.push_back(&e);
     for (const auto& e : check.at("loo").at("runs")) loo.runs.push_back(&e);
 
-    double lo = INFINITY, hi = 0;
+    double lo = INFINITY, hi = 0, intervalTop = 0;
     for (const Set* s : {&inside, &outside, &loo})
-        for (const auto* e : s->runs)
+        for (const auto* e : s->runs) {
             for (double v : {(*e)["loading_kg"].get<double>(), (*e)["predicted_kg"].get<double>()})
                 if (v > 0) lo = std::min(lo, v), hi = std::max(hi, v);
-    // The frame holds every interval's top too, unless one runs off by more than tenfold.
-    double top = hi * 1.5;
-    for (const Set* s : {&inside, &outside, &loo})
-        for (const auto* e : s->runs) top = std::max(top, std::min(orNan((*e)["ci95_kg"][1]) * 1.2, hi * 10));
+            intervalTop = std::max(intervalTop, orNan((*e)["ci95_kg"][1]));  // NaN (no interval) is skipped
+        }
     if (!(hi > 0)) {
         warning = "no run with a positive loading to draw";
         return std::nullopt;
     }
+    // The frame holds every interval's top too, unless one runs off by more than tenfold.
+    const double top = std::max(hi * 1.5, std::min(intervalTop * 1.2, hi * 10));
     // Log axes: an interval reaching zero or below (a response surface's) is drawn to the frame.
     const double floor = lo / 3;
     std::ostringstream dat, plot;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -12,6 +13,13 @@
 #include "common/stats.hpp"
 
 namespace mixload::surrogates {
+
+// Whether a run's loading m lies in a predicted interval; nothing without one (NaN bounds). One
+// rule for the coverage figures and for each checked run's entry.
+inline std::optional<bool> covers(double m, double lo, double hi) {
+    if (std::isnan(lo) || std::isnan(hi)) return std::nullopt;
+    return m >= lo && m <= hi;
+}
 
 struct ErrorStats {
     std::size_t n = 0, covered = 0, withInterval = 0;
@@ -25,9 +33,9 @@ struct ErrorStats {
         errors.push_back(e);
         sum += e;
         max = std::max(max, e);
-        if (!std::isnan(lo) && !std::isnan(hi)) {
+        if (const auto c = covers(m, lo, hi)) {
             ++withInterval;
-            covered += m >= lo && m <= hi;
+            covered += *c;
         }
     }
     // null when there is nothing to report

@@ -190,8 +190,11 @@ TEST(SurrogateCli, FitPredictWhatifCheck) {
         }
         EXPECT_EQ(rows, 8 + 32);
         int outside = 0;
-        for (const auto& e : j["holdout"])
-            outside += e["loading_kg"] < e["ci95_kg"][0] || e["loading_kg"] > e["ci95_kg"][1];
+        for (const auto& e : j["holdout"]) {
+            const bool miss = e["loading_kg"] < e["ci95_kg"][0] || e["loading_kg"] > e["ci95_kg"][1];
+            EXPECT_EQ(e["in_ci95"], !miss) << e.dump();
+            outside += miss;
+        }
         EXPECT_EQ(std::max(outsideRows, 0), outside);
     }
     r = runMixload({"check", "--model", model.string(), "--table", table.string(), "--threshold", "1e-9"});
