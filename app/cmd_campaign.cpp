@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <iomanip>
 #include <iostream>
 
 #include "app/commands.hpp"
@@ -20,7 +21,7 @@ struct CampaignCmd {
     experiments::CampaignSpec spec;
     std::string output;
     experiments::CampaignRunOptions run;
-    bool json = false, adaptive = false;
+    bool json = false, adaptive = false, perCoreHour = false;
     double depositFactor = 0.5, inset = 0;
     int point = -1;
     std::string checkModel, criterion = "variance";
@@ -40,7 +41,7 @@ int printExtended(const CampaignCmd& o) {
     const auto j = experiments::extendCampaign(o.spec.place, o.spec.n, o.adaptive,
                                                o.criterion == "variance" ? experiments::AdaptiveCriterion::Variance
                                                                          : experiments::AdaptiveCriterion::LooWeighted,
-                                               o.inset);
+                                               o.inset, o.perCoreHour);
     if (o.json) {
         std::cout << j.dump(2) << '\n';
         return 0;
@@ -50,10 +51,14 @@ int printExtended(const CampaignCmd& o) {
         const auto& a = j["adaptive"];
         std::cout << "  where the " << a["model"].get<std::string>() << " is least sure (" << a["criterion"].get<std::string>()
                   << "; leave-one-out mean |error| "
-                  << a["loo_mean_abs_error_log"].get<double>() << " in log, " << a["pending_runs"] << " queued points conditioned on):\n";
-        for (const auto& p : a["picks"]) std::cout << "    " << p["params"].dump() << "  predicted " << p["predicted"].get<double>()
-                                                     << ", sd " << p["sd_log"].get<double>() << " in log, weight "
-                                                     << p["loo_weight"].get<double>() << '\n';
+                  << a["loo_mean_abs_error_log"].get<double>() << " in log, " << a["pending_runs"] << " queued points conditioned on"
+                  << (a["per_core_hour"].get<bool>() ? "; per forecast core-hour" : "") << "):\n";
+        for (const auto& p : a["picks"]) {
+            std::cout << "    " << p["params"].dump() << "  predicted " << p["predicted"].get<double>() << ", sd "
+                      << p["sd_log"].get<double>() << " in log, weight " << p["loo_weight"].get<double>();
+            if (!p["core_hours"].is_null()) std::cout << ", ~" << std::setprecision(2) << p["core_hours"].get<double>() << std::setprecision(6) << " core-h";
+            std::cout << '\n';
+        }
     }
     return 0;
 }
@@ -221,6 +226,10 @@ void addCampaign(CLI::App& app, Action& action) {
                    "design box's faces, e.g. the margin the design's ranges were widened by (v2: 0.024); 0 to 0.25")
         ->needs(adaptive)
         ->capture_default_str();
+    xt->add_flag("--per-core-hour", o->perCoreHour,
+                 "With --adaptive on a mixer campaign: the criterion per core-hour the point is forecast to cost (flow to a "
+                 "steady verdict from its predicted loading, as campaign status forecasts): more points where they are cheap")
+        ->needs(adaptive);
     xt->add_option("--dir", o->spec.place.dir, "Where campaigns live")->capture_default_str();
     xt->add_flag("--json", o->json, "Print JSON");
     xt->callback([&action, o] { action = [o] { return printExtended(*o); }; });

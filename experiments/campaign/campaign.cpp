@@ -261,7 +261,7 @@ int sobolPointsOf(const Design& units, int k) {
 // Adds n points without repeating any: the Sobol sequence continues where the campaign stopped;
 // a Latin hypercube is augmented into the strata its points leave free; adaptive points go where
 // a kriging model of the finished runs is least sure.
-nlohmann::json extendCampaign(const CampaignPlace& o, int n, bool adaptive, AdaptiveCriterion by, double inset) {
+nlohmann::json extendCampaign(const CampaignPlace& o, int n, bool adaptive, AdaptiveCriterion by, double inset, bool perCoreHour) {
     requireRange("n", n, 1, 100000);
     requireRange("inset", inset, 0.0, 0.25);
     std::unique_ptr<store::Ledger> l;
@@ -296,19 +296,33 @@ nlohmann::json extendCampaign(const CampaignPlace& o, int n, bool adaptive, Adap
         Design candidates = sobol(nc, k, 100000);
         for (auto& u : candidates)
             for (auto& x : u) x = inset + (1 - 2 * inset) * x;
-        const auto batch = mostUncertain(done, y, pending, candidates, n, by);
+        const auto paramsAt = [&](const std::vector<double>& u) {
+            const auto x = space.toPhysical(u);
+            nlohmann::json params = nlohmann::json::object();
+            for (size_t i = 0; i < x.size(); ++i) params[space.params[i].name] = x[i];
+            return params;
+        };
+        // What a mixer point would cost, from the campaign's own runs (campaign status's forecast):
+        // each pick says it, and with perCoreHour the picks are chosen by it.
+        const auto cost = space.scene == "mixer" ? fitRunCost(c, runs, {}) : std::nullopt;
+        if (perCoreHour && !cost)
+            throw InputError("per-core-hour", o.name,
+                             "a mixer campaign with at least five steady runs that recorded their flow and core-seconds");
+        const auto coreHoursAt = [&](const std::vector<double>& u, double logM) {
+            return cost->coreHours(std::exp(logM), mixerSceneFor(c.sceneJson, paramsAt(u)).feedKgH);
+        };
+        const auto batch = mostUncertain(done, y, pending, candidates, n, by, perCoreHour ? PointCost(coreHoursAt) : PointCost());
         nlohmann::json picks = nlohmann::json::array();
         for (const auto& p : batch.picks) {
             unit.push_back(p.unit);
-            const auto x = space.toPhysical(p.unit);
-            nlohmann::json params = nlohmann::json::object();
-            for (size_t i = 0; i < x.size(); ++i) params[space.params[i].name] = x[i];
-            picks.push_back({{"params", params}, {"predicted", std::exp(p.mean)}, {"sd_log", p.sd}, {"loo_weight", p.weight}});
+            picks.push_back({{"params", paramsAt(p.unit)}, {"predicted", std::exp(p.mean)}, {"sd_log", p.sd}, {"loo_weight", p.weight},
+                             {"core_hours", cost ? nlohmann::json(coreHoursAt(p.unit, p.mean)) : nlohmann::json()}});
         }
         out["adaptive"] = {{"quantity", quantity},
                            {"model", "kriging of log " + std::string(quantity) + " on " + std::to_string(done.size()) + " finished runs"},
                            {"criterion", by == AdaptiveCriterion::Variance ? "variance" : "loo-weighted"},
                            {"inset", inset},
+                           {"per_core_hour", perCoreHour},
                            {"finished_runs", done.size()},
                            {"pending_runs", pending.size()},
                            {"loo_mean_abs_error_log", batch.looMeanAbsError},

@@ -66,8 +66,10 @@ nlohmann::json createCampaign(const CampaignSpec& spec);
 // inset: adaptive candidates keep this share of the unit width (of each parameter's range, or of
 // its log-range) from every face of the design box, e.g. the margin by which the design's ranges
 // were widened beyond the user's, so that the picks stay where answers are asked for.
+// perCoreHour (mixer): the criterion per forecast core-hour of the point (campaign status's cost
+// model on the campaign's steady runs); every mixer pick reports that forecast either way.
 nlohmann::json extendCampaign(const CampaignPlace& place, int n, bool adaptive = false,
-                              AdaptiveCriterion by = AdaptiveCriterion::Variance, double inset = 0);
+                              AdaptiveCriterion by = AdaptiveCriterion::Variance, double inset = 0, bool perCoreHour = false);
 // Mixer campaigns: n finished, steady design points spread over the design (farthest-point), each
 // queued again from a deposit of depositFactor times its loading. Their two results measure the
 // label noise of the steady test (campaignNoise). Throws InputError with too few such points.

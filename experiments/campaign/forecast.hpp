@@ -7,6 +7,7 @@
 // point comes from the kriging model that places warm starts and adaptive points.
 #pragma once
 #include <map>
+#include <optional>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -16,6 +17,24 @@
 #include "store/ledger.hpp"
 
 namespace mixload::experiments {
+
+// What a mixer point costs, fitted on steady runs: the flow to a verdict against the residence
+// time M / feed, and the median core-seconds per second of flow.
+struct RunCost {
+    double intercept = 0;       // a in t = max(a + b tau, floor) [s]
+    double perResidence = 0;    // b
+    double floor = 0;           // the fastest verdict seen [s]
+    double rate = 0;            // core-seconds per second of flow
+    double medianAbsError = 0;  // of t on the runs fitted, relative
+    size_t runs = 0;
+    double flowToVerdict(double residenceS) const;
+    // A point at loading M [kg] and feed [kg/h] that has run flowDone seconds already.
+    double coreHours(double loadingKg, double feedKgH, double flowDoneS = 0) const;
+};
+
+// The fit on the campaign's steady runs and the pool's; none with fewer than five to fit.
+std::optional<RunCost> fitRunCost(const store::CampaignInfo& c, const std::vector<store::LedgerRun>& runs,
+                                  const std::vector<WarmRun>& pool);
 
 // runs: the campaign's rows; pool: finished runs of campaigns on the same base scene that join the
 // fits (a hold-out campaign forecast from its training campaign's runs); flowDone: flow already

@@ -22,7 +22,7 @@ Eigen::MatrixXd matrixOf(const Design& d, int k) {
 }  // namespace
 
 AdaptiveBatch mostUncertain(const Design& done, const std::vector<double>& y, const Design& pending,
-                            const Design& candidates, int n, AdaptiveCriterion by) {
+                            const Design& candidates, int n, AdaptiveCriterion by, const PointCost& cost) {
     if (done.size() < 5) throw InputError("finished runs", std::to_string(done.size()), "at least 5 to fit a model that can say where it is unsure");
     if (candidates.empty()) throw InputError("candidates", "0", "at least one");
     const int k = static_cast<int>(done.front().size());
@@ -49,6 +49,17 @@ AdaptiveBatch mostUncertain(const Design& done, const std::vector<double>& y, co
         }
     }
 
+    auto ws = model.makeWorkspace();
+    const auto predictMean = [&](const std::vector<double>& p) { return model.predictMean(p.data(), ws); };
+    std::vector<double> costs(candidates.size(), 0.0), perCost(candidates.size(), 1.0);
+    if (cost) {
+        for (size_t c = 0; c < candidates.size(); ++c) {
+            costs[c] = cost(candidates[c], predictMean(candidates[c]));
+            if (!(costs[c] > 0)) throw InputError("cost of a candidate", std::to_string(costs[c]), "> 0");
+            perCost[c] = 1.0 / costs[c];
+        }
+    }
+
     // The conditioning set grows by the pending points and then by each pick; the length scales
     // stay those fitted to the finished runs. Points are conditioned on as exact (a jitter instead
     // of the fitted nugget): with the nugget, a well-resolved model's variance has a floor that a
@@ -57,8 +68,6 @@ AdaptiveBatch mostUncertain(const Design& done, const std::vector<double>& y, co
     // are the model's own predictions: they do not change a variance.
     Design cond;
     std::vector<double> vals;
-    auto ws = model.makeWorkspace();
-    const auto predictMean = [&](const std::vector<double>& p) { return model.predictMean(p.data(), ws); };
     const auto condition = [&](const std::vector<double>& p, double v) {
         for (const auto& q : cond) {
             double d2 = 0;
@@ -85,12 +94,13 @@ AdaptiveBatch mostUncertain(const Design& done, const std::vector<double>& y, co
             double mean = 0, var = 0;
             believer.predict(candidates[c].data(), bws, mean, var);
             maxVar = std::max(maxVar, var);
-            if (var * weight[c] > best) best = var * weight[c], bestVar = var, at = c;
+            const double score = var * weight[c] * perCost[c];
+            if (score > best) best = score, bestVar = var, at = c;
         }
         if (best < 0) break;  // every candidate taken
         if (i == 0) out.maxSdBefore = std::sqrt(maxVar);
         taken[at] = true;
-        AdaptivePick pick{candidates[at], std::sqrt(bestVar), predictMean(candidates[at]), weight[at]};
+        AdaptivePick pick{candidates[at], std::sqrt(bestVar), predictMean(candidates[at]), weight[at], costs[at]};
         condition(pick.unit, pick.mean);
         out.picks.push_back(std::move(pick));
     }

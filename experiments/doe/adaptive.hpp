@@ -10,7 +10,12 @@
 // that misses its own runs somewhere (a regime boundary, a step) is less sure near them than its
 // variance says, which depends only on where the runs are. Picks still lower the variance around
 // them, so a batch spreads out as before.
+//
+// With a cost (what a point would take to run, from where it is and what the model predicts
+// there), the criterion is divided by it: the most uncertainty removed per core-hour, for a
+// machine where the runs are the scarce resource and some corners cost forty times others.
 #pragma once
+#include <functional>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -27,7 +32,11 @@ struct AdaptivePick {
                                // point so far taken as exact; the process variance fitted to the runs)
     double mean = 0;           // the model's prediction there
     double weight = 1;         // the criterion's factor on the variance there (1 for Variance)
+    double cost = 0;           // the cost there (0 when the batch was chosen without one)
 };
+
+// A point's cost from its unit coordinates and the model's prediction there; must be > 0.
+using PointCost = std::function<double(const std::vector<double>& unit, double predicted)>;
 
 struct AdaptiveBatch {
     std::vector<AdaptivePick> picks;
@@ -39,6 +48,7 @@ struct AdaptiveBatch {
 // candidates: where a new point may go (e.g. a Sobol set). Throws InputError with fewer than 5
 // finished runs or an empty candidate set.
 AdaptiveBatch mostUncertain(const Design& done, const std::vector<double>& y, const Design& pending,
-                            const Design& candidates, int n, AdaptiveCriterion by = AdaptiveCriterion::Variance);
+                            const Design& candidates, int n, AdaptiveCriterion by = AdaptiveCriterion::Variance,
+                            const PointCost& cost = {});
 
 }  // namespace mixload::experiments

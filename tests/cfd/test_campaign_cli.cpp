@@ -361,7 +361,14 @@ TEST(CampaignCli, AdaptiveExtensionGoesWhereTheFinishedRunsSayLeast) {
     const auto weighted = nlohmann::json::parse(r.out)["adaptive"];
     EXPECT_EQ(weighted["criterion"], "loo-weighted");
     EXPECT_GE(weighted["picks"][0]["loo_weight"].get<double>(), 1.0);
+    // A collapse campaign has no cost model: its picks say none, and per-core-hour is refused.
+    EXPECT_TRUE(weighted["picks"][0]["core_hours"].is_null());
+    EXPECT_FALSE(weighted["per_core_hour"].get<bool>());
+    r = runMixload({"campaign", "extend", "a", "--n", "1", "--adaptive", "--per-core-hour", "--dir", dir.string()});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_NE(r.err.find("per-core-hour"), std::string::npos) << r.err;
     for (const std::vector<std::string>& bad : {std::vector<std::string>{"--criterion", "loo-weighted"},
+                                                std::vector<std::string>{"--per-core-hour"},
                                                 std::vector<std::string>{"--adaptive", "--criterion", "nearest"}}) {
         std::vector<std::string> args{"campaign", "extend", "a", "--n", "1", "--dir", dir.string()};
         args.insert(args.end(), bad.begin(), bad.end());

@@ -53,6 +53,17 @@ TEST(CampaignForecast, RecoversTheFlowAndCostLawsAndCountsTheFlowRun) {
 
     // Fewer than five steady runs: no fit to trust.
     EXPECT_TRUE(forecastCampaign(c, std::vector<store::LedgerRun>(runs.begin(), runs.begin() + 4), space, {}, {}).is_null());
+    EXPECT_FALSE(fitRunCost(c, std::vector<store::LedgerRun>(runs.begin(), runs.begin() + 4), {}));
+
+    // The cost model alone (what adaptive points are weighed by): a point of 0.1 kg at 2 kg/h has a
+    // residence time of 180 s, so 12 + 1.8 * 180 s of flow at 40 core-s each; flow already run comes
+    // off, but never below half a residence time.
+    const auto cost = fitRunCost(c, runs, {});
+    ASSERT_TRUE(cost);
+    EXPECT_EQ(cost->runs, 9u);
+    EXPECT_NEAR(cost->coreHours(0.1, 2.0), (12.0 + 1.8 * 180.0) * 40.0 / 3600.0, 1e-9);
+    EXPECT_NEAR(cost->coreHours(0.1, 2.0, 200.0), (12.0 + 1.8 * 180.0 - 200.0) * 40.0 / 3600.0, 1e-9);
+    EXPECT_NEAR(cost->coreHours(0.1, 2.0, 1000.0), 90.0 * 40.0 / 3600.0, 1e-9);
 
     const auto f = forecastCampaign(c, runs, space, {}, {{9, 30.0}});
     ASSERT_TRUE(f.is_object());

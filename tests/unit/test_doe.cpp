@@ -198,6 +198,36 @@ TEST(Doe, AdaptivePointsGoWhereTheModelIsLeastSure) {
                  mixload::InputError);
 }
 
+// A cost per point: the same model, but the upper half of the range costs 50 times the lower; per
+// unit of cost the picks stay in the cheap half, and each says what it costs. A cost that is not
+// positive is refused.
+TEST(Doe, AdaptivePointsPerUnitOfCostGoWhereTheyAreCheap) {
+    using namespace mixload::experiments;
+    Design done;
+    std::vector<double> y;
+    for (double x : {0.0, 0.2, 0.4, 0.6, 0.8, 1.0}) done.push_back({x}), y.push_back(std::sin(4 * x));
+    Design candidates;
+    for (int i = 0; i <= 200; ++i) candidates.push_back({i / 200.0});
+    const PointCost cost = [](const std::vector<double>& u, double) { return u[0] > 0.5 ? 50.0 : 1.0; };
+    const auto plain = mostUncertain(done, y, {}, candidates, 4);
+    const auto cheap = mostUncertain(done, y, {}, candidates, 3, AdaptiveCriterion::Variance, cost);
+    // Without the cost the gaps are alike and the batch spreads over both halves.
+    bool upper = false;
+    for (const auto& p : plain.picks) {
+        upper = upper || p.unit[0] > 0.5;
+        EXPECT_EQ(p.cost, 0.0);
+    }
+    EXPECT_TRUE(upper);
+    ASSERT_EQ(cheap.picks.size(), 3u);
+    for (const auto& p : cheap.picks) {
+        EXPECT_LE(p.unit[0], 0.5) << p.unit[0];
+        EXPECT_EQ(p.cost, 1.0);
+        EXPECT_EQ(p.weight, 1.0) << "the weight stays the criterion's own";
+    }
+    const PointCost free = [](const std::vector<double>&, double) { return 0.0; };
+    EXPECT_THROW(mostUncertain(done, y, {}, candidates, 1, AdaptiveCriterion::Variance, free), mixload::InputError);
+}
+
 // The Ishigami function's Sobol indices are known in closed form (a = 7, b = 0.1): S = 0.3139,
 // 0.4424, 0; S_T = 0.5576, 0.4424, 0.2437.
 TEST(Sensitivity, SobolIndicesOfTheIshigamiFunction) {
