@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cases/foam_dict.hpp"
+#include "common/atomic_file.hpp"
 
 namespace mixload::cases {
 
@@ -20,6 +21,24 @@ std::string monitorsLibraryPath() {
 
 std::string mixloadFoamLibs() {
     return "\"" + rheologyLibraryPath() + "\" \"" + monitorsLibraryPath() + "\"";
+}
+
+bool refreshFoamLibs(const std::filesystem::path& caseDir) {
+    const auto dict = caseDir / "system" / "controlDict";
+    if (!std::filesystem::exists(dict)) return false;
+    std::istringstream in(readFile(dict));
+    std::ostringstream out;
+    const std::string wanted = "libs (" + mixloadFoamLibs() + ");";
+    bool changed = false;
+    for (std::string line; std::getline(in, line);) {
+        if (line.rfind("libs (", 0) == 0 && line != wanted) {
+            line = wanted;
+            changed = true;
+        }
+        out << line << '\n';
+    }
+    if (changed) writeFileAtomic(dict, out.str());
+    return changed;
 }
 
 std::string interFoamSchemes() {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Numerics shared by mixload's interFoam cases.
 #pragma once
+#include <filesystem>
 #include <string>
 
 namespace mixload::cases {
@@ -20,4 +21,9 @@ std::string transportProperties(const PowderTransport& t);
 std::string mixloadFoamLibs();
 std::string rheologyLibraryPath();
 std::string monitorsLibraryPath();
+// A case names the libraries of the build that wrote it, by absolute path. A case resumed by another
+// build (a study laid back on a machine whose build lives elsewhere) would fail to load them, so the
+// solver's runner points the case's system/controlDict at this build's libraries before each slice.
+// Returns whether the entry changed; a case without a controlDict or a libs entry is left alone.
+bool refreshFoamLibs(const std::filesystem::path& caseDir);
 }  // namespace mixload::cases

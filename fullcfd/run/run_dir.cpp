@@ -5,6 +5,7 @@
 #include <optional>
 #include <iostream>
 
+#include "cases/foam_numerics.hpp"
 #include "common/atomic_file.hpp"
 #include "common/clock.hpp"
 #include "common/input_error.hpp"
@@ -152,6 +153,7 @@ nlohmann::json RunSlices::close(double wallSeconds, double coreSeconds) {
 }
 
 CountedSolve runSolverCounted(const SolverRun& r, std::chrono::steady_clock::time_point t0, double meshSeconds) {
+    cases::refreshFoamLibs(r.caseDir);
     RunSlices slices(r.caseDir, r.np);
     const auto tSolver = std::chrono::steady_clock::now();
     CountedSolve out;

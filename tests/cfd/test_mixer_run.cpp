@@ -232,6 +232,21 @@ TEST(MixerRun, StudyStopsAtMaxHoursAndTheSameCommandResumes) {
         EXPECT_FALSE(r.contains("loading_kg")) << r.dump();
     }
     EXPECT_NE(mixload::readFile(out / "table.md").find("not finished: waits for the MRF run"), std::string::npos) << mixload::readFile(out / "table.md");
+    // A study laid back on another machine (scripts/studies/restore.sh) names the libraries of the
+    // build that began it; the resumed slice must load this build's (it failed with "Could not
+    // load .../libmixloadRheology.so" on 2026-12-06).
+    int moved = 0;
+    for (const auto& run : fs::directory_iterator(out / "runs")) {
+        const fs::path dict = run.path() / "system" / "controlDict";
+        if (!fs::exists(dict)) continue;
+        std::string text = mixload::readFile(dict);
+        const auto at = text.find("libs (");
+        ASSERT_NE(at, std::string::npos);
+        text.replace(at, text.find('\n', at) - at, "libs (\"/nonexistent/build/libmixloadRheology.so\");");
+        mixload::writeFileAtomic(dict, text);
+        ++moved;
+    }
+    ASSERT_GT(moved, 0) << "the stopped slice left no case to resume";
     res = runMixload(args);
     ASSERT_EQ(res.rc, 0) << res.err;
     j = nlohmann::json::parse(res.out);
