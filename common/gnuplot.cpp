@@ -12,6 +12,7 @@ std::string runGnuplot(const std::filesystem::path& dir, const std::string& scri
     spec.argv = {"gnuplot", scriptName};
     spec.cwd = dir;
     spec.log = dir / "gnuplot.log";
+    spec.stopOnRequest = false;
     const int rc = runProcess(spec);
     if (rc != 0) return "gnuplot exited with " + std::to_string(rc) + " (see " + spec.log.string() + ")";
     return "";

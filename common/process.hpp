@@ -20,6 +20,11 @@ struct ProcessSpec {
     // When set, the child gets SIGTERM at this instant and runProcess throws DeadlineReached once
     // it has exited (mpirun passes the signal on to its ranks).
     std::optional<std::chrono::steady_clock::time_point> deadline;
+    // Whether a stop asked for by a signal (stopOnSignals) ends this child too. A solver's run is
+    // stopped; the short tools a stopping driver still runs to leave its work whole (mesh and
+    // reconstruct utilities, gnuplot for the report of what it ran) are not: killed, they turned a
+    // clean stop into an error and a report never written.
+    bool stopOnRequest = true;
 };
 
 class DeadlineReached : public std::runtime_error {

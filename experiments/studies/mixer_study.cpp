@@ -132,11 +132,13 @@ std::vector<nlohmann::json> runMixerScenes(const std::vector<scene::MixerScene>&
             if (!warmFrom.empty()) job.warmFrom = warmFrom[i];
             job.deadline = deadline;
             if ((deadline && std::chrono::steady_clock::now() >= *deadline) || stopRequested())
-                return nlohmann::json{{"stopped", "not started: the study's time was up"}};
+                return nlohmann::json{{"stopped", stopRequested() ? "not started: the study was asked to stop"
+                                                                  : "not started: the study's time was up"}};
             try {
                 return run::runMixer(job);
             } catch (const DeadlineReached&) {
-                return nlohmann::json{{"stopped", "stopped at the study's deadline; it resumes from its last written time"}};
+                return nlohmann::json{{"stopped", std::string(stopRequested() ? "stopped on request" : "stopped at the study's deadline") +
+                                                      "; it resumes from its last written time"}};
             } catch (const run::RunError& e) {
                 return nlohmann::json{{"error", e.what()}};
             }

@@ -39,9 +39,10 @@ namespace {
 
 int run(const fs::path& caseDir, const std::vector<std::string>& argv, const std::string& logName,
         const std::function<void(const std::string&)>& onLine = {},
-        std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt) {
+        std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt, bool stoppable = false) {
     ProcessSpec spec;
     spec.deadline = deadline;
+    spec.stopOnRequest = stoppable;  // a solver stops on a signal; a utility finishes what it writes
     spec.argv = argv;
     spec.cwd = caseDir;
     spec.log = caseDir / logName;
@@ -228,14 +229,14 @@ double runSolver(const SolverRun& r) {
     const std::string logName = "log." + name;
     if (r.np <= 1) {
         fitTimePrecision(r.caseDir, false);
-        check(run(r.caseDir, {r.solver}, logName, onLine, r.deadline), r.caseDir, name, logName);
+        check(run(r.caseDir, {r.solver}, logName, onLine, r.deadline, true), r.caseDir, name, logName);
     } else {
         // The latest time only: a resumed or warm-continued case starts from it.
         if (!fs::exists(r.caseDir / "processor0")) runUtility(r.caseDir, {"decomposePar", "-force", "-latestTime"});
         fitTimePrecision(r.caseDir, true);
         try {
             check(run(r.caseDir, {"mpirun", "-np", std::to_string(r.np), r.solver, "-parallel"}, logName, onLine,
-                      r.deadline),
+                      r.deadline, true),
                   r.caseDir, "mpirun " + name, logName);
         } catch (const DeadlineReached&) {
             // The case itself holds what the slice ran (kept progress, a serial resume read it there).

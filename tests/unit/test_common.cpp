@@ -3,7 +3,10 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
+#include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <thread>
@@ -74,6 +77,32 @@ TEST(Common, RunProcessCapturesLinesAndExitCode) {
     EXPECT_EQ(runProcess(spec), 3);
     ASSERT_EQ(lines.size(), 2u);
     EXPECT_EQ(lines[1], "two");
+}
+
+// Exits 0 when, after a stop request, a tool runs to its own exit code and a solver is stopped at once.
+[[noreturn]] static void stopRequestThenRunBoth() {
+    stopOnSignals();
+    std::raise(SIGTERM);
+    ProcessSpec tool;
+    tool.argv = {"sh", "-c", "sleep 1; exit 4"};
+    tool.stopOnRequest = false;
+    const int toolRc = runProcess(tool);
+    ProcessSpec solver;
+    solver.argv = {"sleep", "30"};
+    bool stopped = false;
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+        runProcess(solver);
+    } catch (const DeadlineReached& e) {
+        stopped = std::string(e.what()).find("stopped on request") != std::string::npos;
+    }
+    const bool quick = std::chrono::steady_clock::now() - t0 < std::chrono::seconds(10);
+    std::exit(toolRc == 4 && stopped && quick ? 0 : 1);
+}
+
+TEST(Common, AStopRequestEndsSolversButLetsToolsFinish) {
+    // In a child process of its own: a stop request cannot be taken back in this one.
+    EXPECT_EXIT(stopRequestThenRunBoth(), ::testing::ExitedWithCode(0), "");
 }
 
 TEST(Common, RunProcessGivesTheChildNoOtherDescriptor) {
