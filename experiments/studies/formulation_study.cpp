@@ -87,6 +87,18 @@ std::vector<FormulationVariant> formulationPreset(const std::string& name) {
     return out;
 }
 
+std::vector<FormulationVariant> formulationPreset(const std::string& name, const scene::MixerScene& reference,
+                                                  std::vector<std::pair<std::string, std::string>>& skipped) {
+    std::vector<FormulationVariant> out;
+    for (auto& v : formulationPreset(name)) try {
+            applyVariant(reference, v);
+            out.push_back(std::move(v));
+        } catch (const InputError& e) {
+            skipped.push_back({v.name, e.what()});
+        }
+    return out;
+}
+
 FormulationVariant parseFormulationVariant(const std::string& text) {
     const auto colon = text.find(':');
     if (colon == std::string::npos || colon == 0)
@@ -361,6 +373,12 @@ nlohmann::json runFormulationStudy(const FormulationStudy& study) {
        << " open. A change within twice the steady tolerance (" << pct(noise).substr(1)
        << ") carries no sign; a what-if passes when M_variant/M_reference is within the paper's 12% band of its "
           "ratio. Where the paper gives only a trend (Fig. 7) the bar shows its sign as +-5%.\n";
+    if (!study.skipped.empty()) {
+        md << "\nNot run (the preset's factor leaves the valid range at this reference):\n";
+        for (const auto& [name, why] : study.skipped) md << "- " << name << ": " << why << "\n";
+    }
+    nlohmann::json skipped = nlohmann::json::array();
+    for (const auto& [name, why] : study.skipped) skipped.push_back({{"variant", name}, {"reason", why}});
     writeFileAtomic(study.out / "formulation.dat", dat.str());
     std::ostringstream gp;
     gp << "set terminal pngcairo size 1100,520 noenhanced\nset output 'formulation.png'\n"
@@ -378,6 +396,7 @@ nlohmann::json runFormulationStudy(const FormulationStudy& study) {
                           {"stopped_at_max_hours", unfinished > 0},
                           {"warm_from", study.warmFrom.empty() ? nlohmann::json() : nlohmann::json(study.warmFrom.string())},
                           {"rows", rows},
+                          {"skipped", skipped},
                           {"pass", pass},
                           {"fail", fail},
                           {"open", open},

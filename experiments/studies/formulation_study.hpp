@@ -31,6 +31,10 @@ struct FormulationVariant {
 // mu_d, i0, d, rho at 0.8 and 1.2), fig7 (each at six factors 0.7-1.3), fig7-similar (fig7 without
 // I0, whose panel the d runs give by similarity), all (paper-whatifs and fig7-signs).
 std::vector<FormulationVariant> formulationPreset(const std::string& name);
+// The same, only the variants valid at this reference; the others (mu_d x 0.7 below mu_s on
+// gcm250-v2) go to `skipped` with the reason, so that a study runs the rest and its table says why.
+std::vector<FormulationVariant> formulationPreset(const std::string& name, const scene::MixerScene& reference,
+                                                  std::vector<std::pair<std::string, std::string>>& skipped);
 // "NAME:key=factor[,key=factor...]" (keys mu_s, mu_d, i0, d, rho). InputError otherwise.
 FormulationVariant parseFormulationVariant(const std::string& text);
 // The reference scene with the variant's factors applied, validated (InputError: mu_d <= mu_s...).
@@ -39,6 +43,8 @@ scene::MixerScene applyVariant(scene::MixerScene s, const FormulationVariant& v)
 struct FormulationStudy {
     scene::MixerScene reference;
     std::vector<FormulationVariant> variants;
+    // A preset's variants left out as invalid at this reference: name and the reason.
+    std::vector<std::pair<std::string, std::string>> skipped;
     std::filesystem::path out;
     std::filesystem::path runs;  // empty: <out>/runs
     int jobs = 1, np = 1;
