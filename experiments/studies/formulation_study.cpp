@@ -373,12 +373,12 @@ nlohmann::json runFormulationStudy(const FormulationStudy& study) {
        << " open. A change within twice the steady tolerance (" << pct(noise).substr(1)
        << ") carries no sign; a what-if passes when M_variant/M_reference is within the paper's 12% band of its "
           "ratio. Where the paper gives only a trend (Fig. 7) the bar shows its sign as +-5%.\n";
-    if (!study.skipped.empty()) {
-        md << "\nNot run (the preset's factor leaves the valid range at this reference):\n";
-        for (const auto& [name, why] : study.skipped) md << "- " << name << ": " << why << "\n";
-    }
+    if (!study.skipped.empty()) md << "\nNot run (the preset's factor leaves the valid range at this reference):\n";
     nlohmann::json skipped = nlohmann::json::array();
-    for (const auto& [name, why] : study.skipped) skipped.push_back({{"variant", name}, {"reason", why}});
+    for (const auto& [name, why] : study.skipped) {
+        md << "- " << name << ": " << why << "\n";
+        skipped.push_back({{"variant", name}, {"reason", why}});
+    }
     writeFileAtomic(study.out / "formulation.dat", dat.str());
     std::ostringstream gp;
     gp << "set terminal pngcairo size 1100,520 noenhanced\nset output 'formulation.png'\n"
