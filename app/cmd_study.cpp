@@ -329,11 +329,10 @@ void addStudy(CLI::App& app, Action& action) {
             experiments::FormulationStudy st;
             st.reference = fo->base.build();
             // A preset's factor outside the valid range at this reference is not run (the table
-            // says why); a --variant the user wrote is refused.
+            // says why); a --variant the user wrote is refused by runFormulationStudy before any run.
             if (!fo->preset.empty() || fo->variants.empty())
                 st.variants = experiments::formulationPreset(fo->preset.empty() ? "all" : fo->preset, st.reference, st.skipped);
             for (const auto& v : fo->variants) st.variants.push_back(experiments::parseFormulationVariant(v));
-            for (const auto& v : st.variants) experiments::applyVariant(st.reference, v);  // refuse before any run
             st.out = fo->out;
             st.runs = fo->runs;
             st.jobs = fo->jobs;
