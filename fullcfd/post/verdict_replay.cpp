@@ -91,6 +91,11 @@ nlohmann::json replayVerdicts(const fs::path& caseDir, double tol, double flowTo
         const double start = from >= 0 ? from
                              : windows.is_null() ? 0.5 * (ta.front() + ta.back())
                                                  : windows["time_s"].get<double>();
+        // A run the monitor stopped at its verdict has no history after it: the default start
+        // leaves nothing to average, and the user gave no --from to blame.
+        if (from < 0 && start >= ta.back())
+            throw InputError("from", "the window test's verdict, " + formatNumber(start) + " s (the default)",
+                             "a time before the history's end: this run stopped at its verdict; give --from");
         const auto b = batchMeans(ta, Ma, start, batches);
         out["long_time"] = {{"from_s", b.from},          {"batches", batches},
                             {"batch_s", b.batchLength},  {"batch_means_kg", b.means},

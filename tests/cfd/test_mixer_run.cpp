@@ -527,14 +527,14 @@ TEST(MixerRun, VerdictReplayGivesALongTimeMeanWithItsInterval) {
     // An oscillation whose batches hold whole periods has batch means equal to its level; a step
     // between two batches has the two levels as batch means and Student t(1)'s wide interval.
     const fs::path dir = scratchDir("verdict-batches");
-    const auto history = [&](const std::string& name, auto loading) {
+    const auto history = [&](const std::string& name, auto loading, double end = 1000) {
         const fs::path run = dir / name;
         fs::create_directories(run / "postProcessing" / "loading" / "0");
         std::ofstream(run / "scene.json") << R"({"scene": {"rpm": 39, "feed_kg_h": 5}})";
         std::ofstream f(run / "postProcessing" / "loading" / "0" / "loading.dat");
         f << "# time loading_kg inflow_kg_s outflow_kg_s fed_kg out_kg max_powder_speed_m_s\n";
         f.precision(12);
-        for (int i = 0; i <= 20000; ++i) {
+        for (int i = 0; 0.05 * i <= end + 1e-6; ++i) {
             const double t = 0.05 * i;
             f << t << ' ' << loading(t) << " 0.00138889 0.00138889 " << 0.00138889 * t << ' ' << 0.00138889 * t
               << " 0.3\n";
@@ -565,6 +565,15 @@ TEST(MixerRun, VerdictReplayGivesALongTimeMeanWithItsInterval) {
     r = runMixload({"study", "verdict", step, "--batches", "3", "--from", "2000"});
     EXPECT_EQ(r.rc, 2);
     EXPECT_NE(r.err.find("invalid from = 2000"), std::string::npos) << r.err;
+    // A run stopped at its verdict (the history cut where the window test passes): the default
+    // start is the verdict, with nothing after it; refused, saying so, not blaming a --from not given.
+    r = runMixload({"study", "verdict", step, "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const double verdict = nlohmann::json::parse(r.out)["runs"][0]["windows"]["time_s"].get<double>();
+    const auto stopped = history("stopped", [](double t) { return t < 500 ? 0.38 : 0.40; }, verdict);
+    r = runMixload({"study", "verdict", stopped, "--batches", "4"});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_NE(r.err.find("stopped at its verdict"), std::string::npos) << r.err;
 }
 
 TEST(MixerRun, ADivergedSolutionStopsTheRunWithItsCause) {
