@@ -53,9 +53,9 @@ for run in "$out"/runs/*/; do
     (cd "$run" && find postProcessing -type d) | while read -r p; do mkdir -p "$d/$p"; done
     (cd "$run" && find postProcessing -type f) | while read -r f; do
       case "$f" in
-        *.dat) n=$(wc -l < "$run/$f")
-               awk -v dt="$step" -v n="$n" '/^#/ || NR == n || !have || $1 - last >= dt { print; if (!/^#/) { last = $1; have = 1 } }' \
-                 "$run/$f" > "$d/$f" ;;
+        *.dat) awk -v dt="$step" '{ kept = /^#/ || !have || $1 - last >= dt; line = $0 }
+                                  kept { print; if (!/^#/) { last = $1; have = 1 } }
+                                  END { if (NR && !kept) print line }' "$run/$f" > "$d/$f" ;;
         *) cp "$run/$f" "$d/$f" ;;  # the monitor's verdict and other records, whole
       esac
     done
