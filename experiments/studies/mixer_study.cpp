@@ -16,6 +16,7 @@
 #include "post/mixer_results.hpp"
 #include "run/foam_runner.hpp"
 #include "run/mixer_job.hpp"
+#include "run/run_dir.hpp"
 #include "studies/methods_comparison.hpp"
 #include "studies/run_pool.hpp"
 #include "studies/study_rows.hpp"
@@ -131,9 +132,13 @@ std::vector<nlohmann::json> runMixerScenes(const std::vector<scene::MixerScene>&
             job.out = runs / (scenes[i].hash() + suffix[i]);
             if (!warmFrom.empty()) job.warmFrom = warmFrom[i];
             job.deadline = deadline;
-            if ((deadline && std::chrono::steady_clock::now() >= *deadline) || stopRequested())
+            if ((deadline && std::chrono::steady_clock::now() >= *deadline) || stopRequested()) {
+                // A run that finished in an earlier slice is still reported as finished: only
+                // running is cut short, not reading.
+                if (auto done = run::checkRunDir(fs::absolute(job.out), scenes[i].hash(), true)) return *done;
                 return nlohmann::json{{"stopped", stopRequested() ? "not started: the study was asked to stop"
                                                                   : "not started: the study's time was up"}};
+            }
             try {
                 return run::runMixer(job);
             } catch (const DeadlineReached&) {

@@ -284,6 +284,18 @@ TEST(MixerRun, StudySmStartsFromTheMrfRunAtItsPoint) {
     const auto mrfRes = nlohmann::json::parse(std::ifstream(fs::path(mrf["run_dir"].get<std::string>()) / "result.json"));
     EXPECT_NEAR(m, mrfRes["final_loading_kg"].get<double>(), 2e-4) << line;
     EXPECT_TRUE(sm["powder_balance_ok"].get<bool>()) << sm.dump();
+    // Called again with its time already up, the study still reports both finished runs (read, not
+    // run) instead of "not started".
+    const auto late = runMixload({"study", "mixer", "--scene", "gcm250-v2", "--cell-size", "0.02", "--methods", "mrf",
+                                  "sm", "--rpms", "162", "--feeds", "45", "--end-time", "0.1", "--sm-from-mrf", "--out",
+                                  out.string(), "--max-hours", "1e-9", "--json"});
+    ASSERT_EQ(late.rc, 0) << late.err;
+    const auto lateRows = nlohmann::json::parse(late.out)["rows"];
+    ASSERT_EQ(lateRows.size(), 2u) << late.out;
+    for (const auto& row : lateRows) {
+        EXPECT_FALSE(row.contains("stopped")) << row.dump();
+        EXPECT_TRUE(row.contains("loading_kg")) << row.dump();
+    }
     // Without an MRF run at the sm point there is nothing to start from: refused, nothing run.
     const auto bad = runMixload({"study", "mixer", "--scene", "gcm250-v2", "--cell-size", "0.02", "--methods", "sm",
                                  "--rpms", "162", "--feeds", "45", "--end-time", "0.1", "--sm-from-mrf", "--out",
