@@ -2,7 +2,7 @@
 # land.sh DIR NAME [MIXLOAD]: copies a live campaign DIR/NAME into data/campaigns/mixer-NAME
 # (ledger by SQLite's online backup, kept final fields, kept progress) and its export
 # data/campaigns/mixer-NAME.csv, ready to commit, checks the shipped kriging model against it and,
-# for v2-holdout, redraws docs/studies/rom/pareto-mixer-1cm.
+# for v2-holdout and its 1.5 cm twin v2m-holdout, redraws docs/studies/rom/pareto-mixer-1cm.
 # Safe while its driver runs.
 set -euo pipefail
 [ $# -ge 2 ] || { echo "usage: $0 DIR NAME [MIXLOAD]" >&2; exit 2; }
@@ -23,10 +23,14 @@ done
 model=$here/data/models/mixer-loading-kriging.json
 # Its parity plot (each run's M against the model's answer) goes to docs/studies/surrogates/check-NAME.
 [ -f "$model" ] && { "$mixload" check --model "$model" --table "$dst.csv" --plot "$here/docs/studies/surrogates/check-$name" || true; }
-# The hold-out's time-against-error table on 1 cm (issue 19) is redrawn with every landing, when
-# the training campaign and the 2 cm twin are in DIR as well (scripts/campaigns/restore.sh).
-if [ "$name" = v2-holdout ] && [ -d "$dir/v2" ] && [ -d "$dir/v2c-holdout" ]; then
-  "$mixload" bench pareto-mixer --campaign v2 --holdout v2-holdout --coarse v2c-holdout --dir "$dir" \
+# The hold-out's time-against-error table on 1 cm (issue 19) is redrawn with every landing of the
+# hold-out or of its 1.5 cm twin, when the training campaign and the 2 cm twin are in DIR as well
+# (scripts/campaigns/restore.sh); the 1.5 cm twin joins when it is there.
+if { [ "$name" = v2-holdout ] || [ "$name" = v2m-holdout ]; } && [ -d "$dir/v2" ] && [ -d "$dir/v2-holdout" ] \
+   && [ -d "$dir/v2c-holdout" ]; then
+  coarse=(--coarse v2c-holdout)
+  [ -d "$dir/v2m-holdout" ] && coarse+=(--coarse v2m-holdout)
+  "$mixload" bench pareto-mixer --campaign v2 --holdout v2-holdout "${coarse[@]}" --dir "$dir" \
     --out "$here/docs/studies/rom/pareto-mixer-1cm" > /dev/null
 fi
 "$mixload" campaign status "$name" --dir "$dir"
