@@ -36,6 +36,10 @@ void stopOnSignals() {
 
 bool stopRequested() { return gStop != 0; }
 
+bool timeIsUp(const std::optional<std::chrono::steady_clock::time_point>& deadline) {
+    return stopRequested() || (deadline && std::chrono::steady_clock::now() >= *deadline);
+}
+
 int runProcess(const ProcessSpec& spec) {
     if (spec.argv.empty()) throw std::invalid_argument("runProcess: empty argv");
     int fds[2];

@@ -32,11 +32,19 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// A run its deadline (or a stop request) kept from starting: nothing of it ran this time.
+class NotStarted : public DeadlineReached {
+public:
+    using DeadlineReached::DeadlineReached;
+};
+
 // From this call on, SIGTERM and SIGINT (Ctrl-C) ask for a stop instead of killing the process: the
 // child running under runProcess gets SIGTERM and runProcess throws DeadlineReached, as at a
 // deadline, so a campaign driver stops the way --max-hours stops it (points released, progress kept).
 void stopOnSignals();
 bool stopRequested();
+// Whether work under this deadline should not begin: a stop was asked for, or the deadline passed.
+bool timeIsUp(const std::optional<std::chrono::steady_clock::time_point>& deadline);
 
 // Runs a child process to completion; returns its exit code (128 + signal if killed).
 int runProcess(const ProcessSpec& spec);

@@ -625,7 +625,7 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
     const auto worker = [&] {
         store::Ledger l(home / "ledger.sqlite");
         for (;;) {
-            if ((deadline && std::chrono::steady_clock::now() >= *deadline) || stopRequested()) {
+            if (timeIsUp(deadline)) {
                 stopped = true;
                 return;
             }
@@ -667,10 +667,11 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
                     res = runPoint<run::CollapseJob>(s, o.np, o.snapshots, home, r->index, deadline, run::runCollapse);
                 }
                 done = true;
-            } catch (const DeadlineReached&) {
+            } catch (const DeadlineReached& e) {
                 l.release(r->id);  // resumes in the next slice
                 stopped = true;
-                if (!dir.empty()) {
+                // A point kept from starting ran nothing: what it ran before was kept when it stopped.
+                if (!dir.empty() && !dynamic_cast<const NotStarted*>(&e)) {
                     // What it ran outlives its directory (progress.hpp).
                     std::lock_guard<std::mutex> g(m);
                     try {

@@ -132,15 +132,11 @@ std::vector<nlohmann::json> runMixerScenes(const std::vector<scene::MixerScene>&
             job.out = runs / (scenes[i].hash() + suffix[i]);
             if (!warmFrom.empty()) job.warmFrom = warmFrom[i];
             job.deadline = deadline;
-            if ((deadline && std::chrono::steady_clock::now() >= *deadline) || stopRequested()) {
-                // A run that finished in an earlier slice is still reported as finished: only
-                // running is cut short, not reading.
-                if (auto done = run::checkRunDir(fs::absolute(job.out), scenes[i].hash(), true)) return *done;
-                return nlohmann::json{{"stopped", stopRequested() ? "not started: the study was asked to stop"
-                                                                  : "not started: the study's time was up"}};
-            }
             try {
                 return run::runMixer(job);
+            } catch (const NotStarted&) {
+                return nlohmann::json{{"stopped", stopRequested() ? "not started: the study was asked to stop"
+                                                                  : "not started: the study's time was up"}};
             } catch (const DeadlineReached&) {
                 return nlohmann::json{{"stopped", std::string(stopRequested() ? "stopped on request" : "stopped at the study's deadline") +
                                                       "; it resumes from its last written time"}};

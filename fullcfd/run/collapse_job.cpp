@@ -8,6 +8,7 @@
 #include "common/atomic_file.hpp"
 #include "common/clock.hpp"
 #include "common/input_error.hpp"
+#include "common/process.hpp"
 #include "post/collapse_results.hpp"
 #include "run/foam_runner.hpp"
 #include "run/run_dir.hpp"
@@ -30,6 +31,8 @@ nlohmann::json runCollapse(const CollapseJob& job) {
         if (job.snapshots) addSnapshots(*done, dir);
         return *done;
     }
+    // As for the mixer (mixer_job.cpp): a finished run is read, a new one is not begun.
+    if (timeIsUp(job.deadline)) throw NotStarted("collapse run not started: its time was up");
 
     const auto t0 = std::chrono::steady_clock::now();
     // --rerun starts over; otherwise a case that has a mesh resumes from its latest time.

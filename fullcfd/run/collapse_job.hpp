@@ -17,7 +17,8 @@ struct CollapseJob {
     bool progress = false;
     bool reuse = true;          // return a finished run's result instead of running again
     bool snapshots = false;     // export <run dir>/snapshots.h5 at the end
-    // Campaigns stop long runs here; they resume later from their last written time.
+    // Campaigns stop long runs here; they resume later from their last written time. Past it a run
+    // does not start (NotStarted), though a finished one is still returned.
     std::optional<std::chrono::steady_clock::time_point> deadline;
 };
 

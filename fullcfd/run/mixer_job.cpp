@@ -11,6 +11,7 @@
 #include "common/atomic_file.hpp"
 #include "common/clock.hpp"
 #include "common/input_error.hpp"
+#include "common/process.hpp"
 #include "post/mixer_results.hpp"
 #include "post/run_profile.hpp"
 #include "run/foam_runner.hpp"
@@ -205,6 +206,9 @@ nlohmann::json runMixer(const MixerJob& job) {
         if (job.snapshots) addSnapshots(*done, dir);
         return *done;
     }
+    // Checked here, after the finished result is read and before the case is built: a driver whose
+    // time is up still reports what finished and spends nothing on a mesh it will not run.
+    if (timeIsUp(job.deadline)) throw NotStarted("mixer run not started: its time was up");
     const auto t0 = std::chrono::steady_clock::now();
     double meshSeconds = 0;
     const bool fresh = !job.reuse || !fs::exists(dir / "constant" / "polyMesh");

@@ -23,7 +23,8 @@ struct MixerJob {
     // fields are mapped by cell-volume weights), or from the powder fraction of a .h5 field file
     // of this run's mesh (air at rest), instead of the scene's deposit.
     std::filesystem::path warmFrom;
-    // Campaigns stop long runs here; they resume later from their last written time.
+    // Campaigns stop long runs here; they resume later from their last written time. Past it a run
+    // does not start (NotStarted), though a finished one is still returned.
     std::optional<std::chrono::steady_clock::time_point> deadline;
 };
 

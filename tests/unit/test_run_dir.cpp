@@ -8,8 +8,14 @@
 #include <thread>
 
 #include "campaign/driver_lock.hpp"
+#include "common/atomic_file.hpp"
+#include "common/process.hpp"
+#include "run/collapse_job.hpp"
 #include "run/foam_runner.hpp"
+#include "run/mixer_job.hpp"
 #include "run/run_dir.hpp"
+#include "scene/collapse_scene.hpp"
+#include "scene/mixer_scene.hpp"
 
 using namespace mixload;
 namespace fs = std::filesystem;
@@ -56,4 +62,38 @@ TEST(DriverLock, SecondDriverIsRefusedWhileTheFirstHolds) {
     EXPECT_NO_THROW(experiments::DriverLock(home, "calibrate mixer --name cal"));
     EXPECT_FALSE(fs::exists(home / "driver.lock"));
     fs::remove_all(home.parent_path());
+}
+
+// Past its deadline a job begins nothing (no case, no mesh: NotStarted, which drivers treat as a
+// stop), yet a run that finished earlier is still returned: a late driver reports it, not "stopped".
+TEST(RunDeadline, PastTheDeadlineNothingStartsAndFinishedRunsAreRead) {
+    const fs::path root = fs::temp_directory_path() / "mixload-deadline-test";
+    fs::remove_all(root);
+    const auto past = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+
+    run::MixerJob mixer;
+    mixer.scene = scene::loadMixerScene(scene::kDefaultMixerScene);
+    mixer.out = root / "mixer";
+    mixer.deadline = past;
+    EXPECT_THROW(run::runMixer(mixer), NotStarted);
+    EXPECT_FALSE(fs::exists(mixer.out));
+    EXPECT_FALSE(fs::exists(root / "mixer.tmp"));
+
+    scene::CollapseScene c;
+    c.material = scene::loadMaterial("quartz");
+    run::CollapseJob collapse;
+    collapse.scene = c;
+    collapse.out = root / "collapse";
+    collapse.deadline = past;
+    EXPECT_THROW(run::runCollapse(collapse), NotStarted);
+    EXPECT_FALSE(fs::exists(collapse.out));
+
+    // A finished run directory (its scene and result written) is read however late it is asked.
+    fs::create_directories(mixer.out);
+    writeFileAtomic(mixer.out / "scene.json", nlohmann::json{{"hash", mixer.scene.hash()}}.dump());
+    writeFileAtomic(mixer.out / "result.json", nlohmann::json{{"loading_kg", 0.25}}.dump());
+    const auto done = run::runMixer(mixer);
+    EXPECT_EQ(done.value("loading_kg", 0.0), 0.25);
+    EXPECT_TRUE(done.value("reused", false));
+    fs::remove_all(root);
 }
