@@ -5,10 +5,10 @@ set format x '%g'
 set format y '%g'
 set grid
 set size square
-set xrange [0.00386373:0.326863]
-set yrange [0.00386373:0.326863]
+set xrange [0.00101455:1.7167]
+set yrange [0.00101455:1.7167]
 set xlabel 'M, full run [kg]'
 set ylabel 'M, model [kg] (bars: its 95% interval)'
-set title "mixer-loading-kriging.json: 5 hold-out runs, mean 57.10%, max 122.77%, 95% coverage 20.00%" font ',10'
+set title "mixer-loading-kriging.json: 24 hold-out runs, mean 69.50%, max 504.69%, 95% coverage 50.00%" font ',10'
 set key top left box opaque font ',9'
-plot 'parity.dat' index 0 using 1:2:3:4 with yerrorbars pt 7 ps 1.3 lc rgb '#1f77b4' title 'hold-out, inside its 95% interval (1)', 'parity.dat' index 1 using 1:2:3:4 with yerrorbars pt 5 ps 1.3 lc rgb '#d62728' title 'hold-out, outside its 95% interval (4)', x with lines lw 1.5 lc rgb 'black' title 'model = full run', 1.1*x with lines dt 2 lc rgb 'dark-gray' title '±10%', 0.9*x with lines dt 2 lc rgb 'dark-gray' notitle
+plot 'parity.dat' index 0 using 1:2:3:4 with yerrorbars pt 7 ps 1.3 lc rgb '#1f77b4' title 'hold-out, inside its 95% interval (12)', 'parity.dat' index 1 using 1:2:3:4 with yerrorbars pt 5 ps 1.3 lc rgb '#d62728' title 'hold-out, outside its 95% interval (12)', x with lines lw 1.5 lc rgb 'black' title 'model = full run', 1.1*x with lines dt 2 lc rgb 'dark-gray' title '±10%', 0.9*x with lines dt 2 lc rgb 'dark-gray' notitle
