@@ -33,7 +33,9 @@ int printCreated(const CampaignCmd& o) {
     if (o.json) std::cout << j.dump(2) << '\n';
     else
         std::cout << "campaign " << o.spec.place.name << ": " << j["points"] << " " << j["scene"].get<std::string>()
-                  << " points (" << o.spec.design << "), ledger " << j["ledger"].get<std::string>() << '\n';
+                  << " points (" << j["design"].get<std::string>()
+                  << (j["protocol"].get<std::string>().empty() ? "" : ", protocol " + j["protocol"].get<std::string>())
+                  << "), ledger " << j["ledger"].get<std::string>() << '\n';
     return 0;
 }
 
@@ -163,8 +165,16 @@ void addCampaign(CLI::App& app, Action& action) {
     auto* cr = camp->add_subcommand("create", "Create a campaign: sample the ranges, queue every point in a new ledger");
     cr->add_option("name", o->spec.place.name, "Campaign name")->required();
     cr->add_option("--ranges", o->spec.ranges, "Ranges file (TOML: scene = mixer|collapse, one table per parameter with min, max, unit)")->required();
-    cr->add_option("--design", o->spec.design, "lhs (maximin Latin hypercube) | sobol")->capture_default_str();
-    cr->add_option("--n", o->spec.n, "Number of points")->required();
+    cr->add_option("--design", o->spec.design, "lhs (maximin Latin hypercube) | sobol | points (with --points)")->capture_default_str();
+    auto* n = cr->add_option("--n", o->spec.n, "Number of points (a sampled design)");
+    auto* points = cr->add_option("--points", o->spec.points,
+                   "Mixer: the campaign's points from this CSV (columns as a campaign export's: mu_s, mu_d or delta_mu, i0, d, "
+                   "rho, feed_kg_h, rpm), each inside the ranges, instead of a sampled design (a relabel of chosen points)");
+    n->excludes(points);
+    cr->add_option("--protocol", o->spec.protocol,
+                   "Mixer: label (default: every point from one fixed 0.05 kg deposit, steady windows of one residence "
+                   "time, no warm start; its runs are labels) | scene (the scene's deposit and windows; implied by "
+                   "--initial-loading-kg or --steady-window-residence)");
     cr->add_option("--seed", o->spec.seed, "Seed of the Latin hypercube")->capture_default_str();
     cr->add_option("--scene", o->spec.scene, std::string("Mixer: scene name or file (default ") + scene::kDefaultMixerScene +
                                             "); collapse: material (default quartz)");
@@ -178,8 +188,7 @@ void addCampaign(CLI::App& app, Action& action) {
     cr->add_option("--steady-flow-tol", o->spec.steadyFlowTol, "Mixer: ... and the mean outflow is within this fraction of the feed");
     cr->add_option("--mesher", o->spec.mesher, "Mixer: ogrid | snappy")->capture_default_str();
     cr->add_option("--steady-window-residence", o->spec.steadyResidence,
-                   "Mixer: steady-test windows span at least this share of the residence time M/feed")
-        ->capture_default_str();
+                   "Mixer: steady-test windows span at least this share of the residence time M/feed (--protocol scene; default 0.5)");
     cr->add_option("--numerics", o->spec.numerics, "Mixer: solver settings preset fast | legacy")
         ->capture_default_str();
     cr->add_option("--dir", o->spec.place.dir, "Where campaigns live")->capture_default_str();

@@ -5,6 +5,8 @@
 #include "app/commands.hpp"
 #include "app/mixer_options.hpp"
 #include "post/run_profile.hpp"
+#include "common/input_error.hpp"
+#include "run/label_protocol.hpp"
 #include "run/mixer_job.hpp"
 
 namespace mixload::app {
@@ -19,6 +21,7 @@ struct MixerCmd {
     bool snapshots = false;
     bool profile = false;
     std::string warmFrom;
+    std::string protocol = "scene";
 };
 }  // namespace
 
@@ -39,11 +42,20 @@ void addMixer(CLI::App& app, Action& action) {
                     "Start from the latest fields of this mixer run directory (mapped onto this "
                     "mesh), or from the powder fraction of a .h5 field file of this mesh (e.g. from "
                     "`rom regression --at ... --fields`), instead of the deposit");
+    cmd->add_option("--protocol", o->protocol,
+                    "scene (the scene's deposit and windows, or those given) | label (the campaigns' label "
+                    "protocol: a fixed 0.05 kg deposit, windows of one residence time; the result says whether it is a label)")
+        ->capture_default_str();
     cmd->add_flag("--json", o->json, "Print the result as JSON");
     cmd->callback([&action, o] {
         action = [o] {
             run::MixerJob job;
-            job.scene = o->scene.build();
+            if (o->protocol != "scene" && o->protocol != "label") throw InputError("protocol", o->protocol, "scene | label");
+            if (o->protocol == "label" && !o->warmFrom.empty())
+                throw InputError("warm-from", o->warmFrom, "no warm start under --protocol label (a label starts from its deposit)");
+            scene::MixerOverrides m = o->scene;
+            if (o->protocol == "label") run::applyLabelProtocol(m);
+            job.scene = m.build();
             job.np = o->np;
             job.out = o->out;
             job.progress = !o->json;
@@ -63,6 +75,8 @@ void addMixer(CLI::App& app, Action& action) {
                       << r["loading_kg"].get<double>() << " kg (std "
                       << r["loading_std_kg"].get<double>() << " kg over the final window)"
                       << "\n  steady: " << (r["steady"].get<bool>() ? "yes" : "NO (cap reached)")
+                      << "\n  label: " << (r.value("label", false) ? std::string("yes (") + r.value("protocol", "") + ")"
+                                                                    : "no (" + r.value("not_label_because", std::string()) + ")")
                       << "\n  outflow " << r["outflow_kg_h"].get<double>() << " kg/h"
                       << "\n  powder balance error "
                       << (r["powder_balance_error"].is_null() ? std::string("n/a (pseudo-time)")

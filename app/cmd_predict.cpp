@@ -100,7 +100,8 @@ int predict(const PredictCmd& o) {
     std::cout << std::setprecision(4) << "M = " << p.m << " kg";
     if (p.overfull) std::cout << " (above a full barrel of this powder, " << p.fullBarrelKg << " kg: not valid here)";
     else if (!std::isnan(p.lo)) std::cout << " (95% interval " << p.lo << " .. " << p.hi << " kg)";
-    std::cout << "  [" << m.kind() << ", " << path << "]\n  model of " << m.sourceLabel() << '\n';
+    std::cout << "  [" << m.kind() << ", " << path << "]\n  model of " << m.sourceLabel() << "\n  "
+              << experiments::regimeErrorLine(experiments::regimeErrorJson(m, x)) << '\n';
     return 0;
 }
 
@@ -239,6 +240,7 @@ int whatif(const WhatifCmd& o) {
             std::cout << ' ' << at["input"].get<std::string>() << ' ' << std::showpos << at["delta_kg"].get<double>()
                       << std::noshowpos << " kg;";
         std::cout << " interaction " << std::showpos << p["interaction_kg"].get<double>() << std::noshowpos << " kg\n";
+        std::cout << "    " << experiments::regimeErrorLine(p["base"]["regime"]) << '\n';
     }
     return 0;
 }

@@ -107,7 +107,10 @@ nlohmann::json runQois(const std::string& kind, const nlohmann::json& r) {
     const std::vector<const char*> keys =
         kind == "mixer" ? std::vector<const char*>{"loading_kg", "loading_std_kg", "steady", "steady_time_s",
                                                    "outflow_kg_h", "powder_leak_kg_h", "powder_balance_ok",
-                                                   "final_loading_kg", "end_time_s", "cells", "start"}
+                                                   "final_loading_kg", "end_time_s", "cells", "start",
+                                                   // the label protocol's judgement (fullcfd/run/label_protocol)
+                                                   "protocol", "label", "not_label_because", "settled_residence_times",
+                                                   "level_change_seen", "dense_share", "level_m", "dense_loading_kg"}
                         : std::vector<const char*>{"runout_star", "height_star", "stopped_by", "t_star",
                                                    "end_time", "powder_mass_error", "cells"};
     nlohmann::json q = nlohmann::json::object();

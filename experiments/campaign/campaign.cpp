@@ -33,8 +33,10 @@
 #include "post/mixer_results.hpp"
 #include "run/collapse_job.hpp"
 #include "run/foam_runner.hpp"
+#include "run/label_protocol.hpp"
 #include "run/mixer_job.hpp"
 #include "store/campaign_fields.hpp"
+#include "table.hpp"
 #include "scene/collapse_overrides.hpp"
 #include "scene/mixer_overrides.hpp"
 
@@ -56,16 +58,35 @@ nlohmann::json baseOf(const CampaignSpec& o, const std::string& kind) {
                          {"method", o.method}, {"mesh", o.mesh.empty() ? "coarse" : o.mesh}};
         if (o.cellSize) b["cell_size_m"] = *o.cellSize, b["mesh"] = "custom";
         if (o.endTime) b["end_time_s"] = *o.endTime;
-        if (o.initialLoadingKg) b["initial_loading_kg"] = *o.initialLoadingKg;
         if (o.steadyTol) b["steady_tol"] = *o.steadyTol;
         if (o.steadyFlowTol) b["steady_flow_tol"] = *o.steadyFlowTol;
         b["mesher"] = o.mesher;
-        b["steady_window_residence"] = o.steadyResidence;
         b["numerics"] = o.numerics;
+        const std::string protocol =
+            !o.protocol.empty() ? o.protocol : (o.initialLoadingKg || o.steadyResidence) ? "scene" : "label";
+        if (protocol == "label") {
+            // The protocol's own start, windows and cap (the same keys a scene-protocol base has, so
+            // a point's scene is built the one way); applyLabelProtocol refuses a start of its own.
+            scene::MixerOverrides m;
+            m.initialLoadingKg = o.initialLoadingKg;
+            m.residence = o.steadyResidence;
+            m.endTime = o.endTime;
+            run::applyLabelProtocol(m);
+            b["protocol"] = run::kLabelProtocol;
+            b["initial_loading_kg"] = *m.initialLoadingKg;
+            b["steady_window_residence"] = *m.residence;
+            b["end_time_s"] = *m.endTime;
+        } else if (protocol == "scene") {
+            if (o.initialLoadingKg) b["initial_loading_kg"] = *o.initialLoadingKg;
+            b["steady_window_residence"] = o.steadyResidence.value_or(scene::MixerScene{}.steadyResidence);
+        } else {
+            throw InputError("protocol", protocol, "label | scene");
+        }
         return b;
     }
-    if (o.cellSize || o.endTime || o.initialLoadingKg || o.steadyTol || o.steadyFlowTol)
-        throw InputError("cell-size, end-time, initial-loading-kg, steady-tol, steady-flow-tol", "(given)",
+    if (o.cellSize || o.endTime || o.initialLoadingKg || o.steadyTol || o.steadyFlowTol || o.steadyResidence ||
+        !o.protocol.empty())
+        throw InputError("cell-size, end-time, initial-loading-kg, steady-tol, steady-flow-tol, steady-window-residence, protocol", "(given)",
                          "mixer campaigns only");
     return {{"kind", kind}, {"material", o.scene.empty() ? "quartz" : o.scene},
             {"cells_per_length", o.mesh.empty() ? 30 : std::stoi(o.mesh)}};
@@ -172,29 +193,75 @@ nlohmann::json runPoint(const Scene& s, int np, bool snapshots, const fs::path& 
 
 }  // namespace
 
+namespace {
+
+// A points design: each row of the CSV as a point, its parameters those of the ranges; an input
+// the ranges leave out must hold the base scene's value (a relabel must not change it unseen).
+std::vector<nlohmann::json> pointsFromCsv(const ParameterSpace& space, const nlohmann::json& base, const fs::path& csv) {
+    if (space.scene != "mixer") throw InputError("points", csv.string(), "a mixer campaign's ranges (scene = \"mixer\")");
+    const auto rows = surrogates::readInputs(csv);
+    if (rows.empty()) throw InputError("points", csv.string(), "a CSV with at least one row");
+    const auto s0 = mixerSceneFor(base, nlohmann::json::object());
+    const auto valueOf = [](const surrogates::Point& x, const std::string& name) {
+        using namespace surrogates;
+        return name == "mu_s" ? x[kMuS] : name == "delta_mu" ? x[kMuD] - x[kMuS] : name == "i0" ? x[kI0]
+             : name == "d" ? x[kD] : name == "rho" ? x[kRho] : name == "feed_kg_h" ? x[kFeed] : x[kRpm];
+    };
+    const std::map<std::string, double> fixed{{"mu_s", s0.material.muS}, {"delta_mu", s0.material.muD - s0.material.muS},
+                                              {"i0", s0.material.I0}, {"d", s0.material.grainDiameter},
+                                              {"rho", s0.bulkDensity()}, {"feed_kg_h", s0.feedKgH}, {"rpm", s0.rpm}};
+    std::vector<nlohmann::json> points;
+    for (size_t i = 0; i < rows.size(); ++i) {
+        nlohmann::json p;
+        std::set<std::string> ranged;
+        for (const auto& prm : space.params) {
+            const double v = valueOf(rows[i], prm.name);
+            if (!(v >= prm.min && v <= prm.max))
+                throw InputError("points", csv.string() + " row " + std::to_string(i + 1) + " " + prm.name + " = " + formatNumber(v),
+                                 "[" + formatNumber(prm.min) + ", " + formatNumber(prm.max) + "] (the ranges file)");
+            p[prm.name] = v;
+            ranged.insert(prm.name);
+        }
+        for (const auto& [name, v0] : fixed) {
+            const double v = valueOf(rows[i], name);
+            if (!ranged.count(name) && std::abs(v - v0) > 1e-9 * std::max(1.0, std::abs(v0)))
+                throw InputError("points", csv.string() + " row " + std::to_string(i + 1) + " " + name + " = " + formatNumber(v),
+                                 formatNumber(v0) + ", the base scene's value (the ranges file does not vary " + name + ")");
+        }
+        p["scene_hash"] = sceneHashFor(base, p);
+        points.push_back(p);
+    }
+    return points;
+}
+
+}  // namespace
+
 nlohmann::json createCampaign(const CampaignSpec& o) {
     checkName(o.place.name);
-    requireRange("n", o.n, 1, 100000);
-    if (o.design != "lhs" && o.design != "sobol") throw InputError("design", o.design, "lhs|sobol");
+    const bool fromPoints = !o.points.empty();
+    if (fromPoints && o.design != "lhs" && o.design != "points")
+        throw InputError("design", o.design, "points (or left out) with --points");
+    if (!fromPoints) requireRange("n", o.n, 1, 100000);
+    if (!fromPoints && o.design != "lhs" && o.design != "sobol") throw InputError("design", o.design, "lhs|sobol (points needs --points FILE.csv)");
     if (fs::exists(o.place.ledger()))
         throw InputError("name", o.place.name, "a new campaign (" + o.place.ledger().string() + " exists)");
     const auto space = loadRanges(o.ranges);
     if (!o.mesh.empty() && space.scene == "collapse" && !std::regex_match(o.mesh, std::regex("[0-9]{1,3}")))
         throw InputError("mesh", o.mesh, "cells per column length (e.g. 30) for a collapse campaign");
     const nlohmann::json base = baseOf(o, space.scene);
-    const auto unit = o.design == "lhs"
-                          ? latinHypercube(o.n, static_cast<int>(space.params.size()),
-                                                        static_cast<std::uint64_t>(o.seed))
-                          : sobol(o.n, static_cast<int>(space.params.size()));
     // Every point becomes a validated scene before the ledger exists: bad input leaves nothing.
-    const auto points = pointsOf(space, base, unit);
+    const auto points = fromPoints ? pointsFromCsv(space, base, o.points)
+                                   : pointsOf(space, base,
+                                              o.design == "lhs" ? latinHypercube(o.n, static_cast<int>(space.params.size()),
+                                                                                 static_cast<std::uint64_t>(o.seed))
+                                                                : sobol(o.n, static_cast<int>(space.params.size())));
     store::CampaignInfo info;
     info.name = o.place.name;
     info.scene = space.scene;
     info.sceneJson = base;
     info.sceneHash = sceneHashFor(base, nlohmann::json::object());
     info.rangesToml = readFile(o.ranges);
-    info.design = o.design;
+    info.design = fromPoints ? "points" : o.design;
     info.seed = static_cast<std::uint64_t>(o.seed);
     info.method = space.scene == "mixer" ? o.method : "";
     info.mesh = base.contains("mesh") ? base["mesh"].get<std::string>()
@@ -204,7 +271,8 @@ nlohmann::json createCampaign(const CampaignSpec& o) {
     store::Ledger ledger(o.place.ledger());
     ledger.createCampaign(info, points);
     return {{"campaign", o.place.name}, {"ledger", o.place.ledger().string()},
-            {"scene", space.scene}, {"design", o.design}, {"points", points.size()},
+            {"scene", space.scene}, {"design", info.design}, {"points", points.size()},
+            {"protocol", base.value("protocol", space.scene == "mixer" ? "scene" : "")},
             {"parameters", [&] {
                  nlohmann::json a = nlohmann::json::array();
                  for (const auto& p : space.params)
@@ -329,6 +397,8 @@ nlohmann::json extendCampaign(const CampaignPlace& o, int n, bool adaptive, Adap
                            {"max_sd_log_before", batch.maxSdBefore},
                            {"picks", picks}};
     } else {
+        if (c.design == "points")
+            throw InputError("campaign", o.name, "a sampled design to extend (a points design has no sequence to continue; use --adaptive or a new campaign)");
         // A Sobol design continues its own sequence: replicates and adaptive picks are not of it.
         unit = c.design == "sobol" ? sobol(n, k, sobolPointsOf(old, k))
                                    : augmentLatinHypercube(old, n, c.seed + runs.size());
@@ -365,9 +435,11 @@ nlohmann::json replicateCampaign(const CampaignPlace& o, int n, double depositFa
     if (static_cast<int>(done.size()) < n)
         throw InputError("n", std::to_string(n), "at most the " + std::to_string(done.size()) + " finished, steady design points");
     // Spread over the design: the first finished point, then each time the one farthest from
-    // those already taken (in the unit cube).
+    // those already taken (in the unit cube). Every point is ordered so, and the first n whose
+    // replicate is a new run are taken: a deposit equal to the point's own start (a label point of
+    // 0.1 kg replicated from 0.05 kg, its protocol's deposit) would only repeat the run.
     std::vector<size_t> chosen{0};
-    while (static_cast<int>(chosen.size()) < n) {
+    while (chosen.size() < done.size()) {
         double best = -1;
         size_t at = 0;
         for (size_t i = 0; i < done.size(); ++i) {
@@ -379,12 +451,16 @@ nlohmann::json replicateCampaign(const CampaignPlace& o, int n, double depositFa
     }
     std::vector<nlohmann::json> points;
     nlohmann::json added = nlohmann::json::array();
+    int taken = 0;  // replicates queued now or before, of the points walked
     for (size_t i : chosen) {
+        if (taken == n) break;
         auto p = done[i]->params;
         const double m = loading[i];
         p["initial_loading_kg"] = std::round(1000 * depositFactor * m) / 1000;  // grams: a deposit, not a measurement
         p.erase("scene_hash");
         p["scene_hash"] = sceneHashFor(c.sceneJson, p);
+        if (p["scene_hash"] == done[i]->params.value("scene_hash", std::string())) continue;  // the point's own run
+        ++taken;
         if (!hashes.insert(p["scene_hash"].get<std::string>()).second) continue;  // this replicate exists
         added.push_back({{"of_index", done[i]->index}, {"loading_kg", m}, {"initial_loading_kg", p["initial_loading_kg"]}});
         points.push_back(p);
@@ -526,7 +602,7 @@ nlohmann::json exportCampaignCsv(const CampaignPlace& o, const std::filesystem::
         for (const auto& [k, _] : r.params.items()) params.insert(k);
         if (r.result.is_object())
             for (const auto& [k, v] : r.result.items())
-                if (v.is_number() || v.is_boolean() || v.is_null()) qois.insert(k);
+                if (v.is_number() || v.is_boolean() || v.is_null() || v.is_string()) qois.insert(k);
     }
     // A mixer design may hold inputs at the base scene's values (a similarity design fixes rho and
     // I0): they get columns too, so the CSV carries every input a surrogate needs.
@@ -588,6 +664,13 @@ nlohmann::json runCampaign(const CampaignPlace& place, const CampaignRunOptions&
     const DriverLock lock(home, "campaign run");
     if ((o.warmNearest || !o.warmFrom.empty()) && c.scene != "mixer")
         throw InputError("warm-nearest", "on", "a mixer campaign (a collapse starts from its column)");
+    // In the bed-to-film band the start picks the steady state, so a warm start may make a label only
+    // where paired cold and warm runs agree within the label noise; no regime has that measurement yet.
+    if ((o.warmNearest || !o.warmFrom.empty()) && c.sceneJson.value("protocol", "") == run::kLabelProtocol)
+        throw InputError(o.warmNearest ? "warm-nearest" : "warm-from-campaign", "on",
+                         std::string("a campaign without the label protocol: ") + place.name + " makes labels (" +
+                             run::kLabelProtocol + "), and a warm start makes none until paired cold and warm runs "
+                             "agree within the label noise in its regime (docs/campaigns.md, \"Label protocol\")");
     const auto space = rangesOf(c, place.name);
     const auto warmRuns = warmPool(c, o.warmFrom);
     // Whatever a previous driver left running died with it (its solvers die with their parent).

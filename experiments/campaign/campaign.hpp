@@ -31,9 +31,15 @@ struct CampaignSpec {
     std::string design = "lhs", scene, method = "mrf", mesh;
     int n = 0;
     long long seed = 1;
-    std::optional<double> cellSize, endTime, initialLoadingKg, steadyTol, steadyFlowTol;
+    std::optional<double> cellSize, endTime, initialLoadingKg, steadyTol, steadyFlowTol, steadyResidence;
     std::string mesher = "ogrid";
-    double steadyResidence = scene::MixerScene{}.steadyResidence;
+    // Mixer: "label" (fullcfd/run/label_protocol: every point from one fixed deposit, windows of a
+    // residence time, no warm start; the default) or "scene" (the scene's deposit and windows, or
+    // those given). Giving initialLoadingKg or steadyResidence without a protocol means "scene".
+    std::string protocol;
+    // design "points": the points of this CSV (columns named as the ranges' parameters, or a
+    // campaign export's), instead of a sampled design; every value inside the ranges.
+    std::string points;
     std::string numerics = scene::MixerNumerics{}.preset;
 };
 

@@ -9,6 +9,7 @@
 #include "common/atomic_file.hpp"
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
+#include "regime.hpp"
 
 namespace mixload::experiments {
 
@@ -28,7 +29,53 @@ nlohmann::json predictionJson(const surrogates::Surrogate& m, const surrogates::
                      {"kind", m.kind()},
                      {"source", m.sourceLabel()}};
     if (!p.inBox) j["outside"] = m.outsideBox(x);
+    j["regime"] = regimeErrorJson(m, x);
     return j;
+}
+
+nlohmann::json regimeErrorJson(const surrogates::Surrogate& m, const surrogates::Point& x) {
+    const auto regime = surrogates::regimeOf(x);
+    nlohmann::json j{{"name", surrogates::regimeName(regime)}, {"measured", nullptr}};
+    // The latest check against hold-out runs of the model's own scene that has figures per regime
+    // (`mixload check` records them); a check of another scene's runs records nothing.
+    const auto& history = m.checkHistory();
+    for (auto it = history.rbegin(); it != history.rend(); ++it) {
+        if (!it->contains("holdout_by_regime")) continue;
+        const auto& f = (*it)["holdout_by_regime"][surrogates::regimeName(regime)];
+        if (f.value("n", 0) == 0) continue;
+        j["measured"] = {{"n_holdout", f["n"]},
+                         {"mean_rel_error", f["mean_rel_error"]},
+                         {"mean_rel_error_ci90", f["mean_rel_error_ci90"]},
+                         {"max_rel_error", f["max_rel_error"]},
+                         {"coverage95", f["coverage95"]},
+                         {"date_utc", it->value("date_utc", "")},
+                         {"source", it->value("source", nlohmann::json())}};
+        break;
+    }
+    return j;
+}
+
+std::string regimeErrorLine(const nlohmann::json& regime) {
+    std::ostringstream os;
+    const std::string name = regime["name"].get<std::string>();
+    os << "regime: " << name << " ("
+       << (name == "bed" ? "below 140 rpm" : name == "film" ? "above 205 rpm" : "140-205 rpm, where the start can pick the state") << "); ";
+    const auto& f = regime["measured"];
+    if (f.is_null()) {
+        os << "this model's error there is not measured (mixload check --model MODEL --table HOLDOUT.csv)";
+        return os.str();
+    }
+    const auto pct = [](const nlohmann::json& v) {
+        std::ostringstream p;
+        p << std::fixed << std::setprecision(1) << 100 * v.get<double>() << '%';
+        return v.is_null() ? std::string("n/a") : p.str();
+    };
+    os << "this model's measured hold-out error there: mean " << pct(f["mean_rel_error"]) << ", max " << pct(f["max_rel_error"])
+       << ", 95% coverage " << pct(f["coverage95"]) << " (" << f["n_holdout"].get<int>() << " runs of "
+       << (f["source"].is_object() ? f["source"].value("campaign", f["source"].value("table", std::string("a table")))
+                                   : std::string("a table"))
+       << ", checked " << f["date_utc"].get<std::string>().substr(0, 10) << ")";
+    return os.str();
 }
 
 nlohmann::json compareFormulations(const surrogates::Surrogate& m, const std::string& modelPath, const Point& base,

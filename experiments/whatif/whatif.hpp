@@ -20,6 +20,12 @@ inline constexpr std::array<size_t, 5> kMaterial{0, 1, 2, 3, 4};
 
 // One prediction as `predict --json` prints it: loading, 95% interval, whether the point lies in
 // the training box (and where not), the model and what it was trained on.
+// The regime of x (surrogates/regime.hpp) and the model's measured hold-out error in it, from the
+// latest check in its history with per-regime figures: {"name", "measured": {n_holdout,
+// mean_rel_error, ..., date_utc, source} or null}; and that as one line for a person.
+nlohmann::json regimeErrorJson(const surrogates::Surrogate& m, const surrogates::Point& x);
+std::string regimeErrorLine(const nlohmann::json& regime);
+
 nlohmann::json predictionJson(const surrogates::Surrogate& m, const surrogates::Point& x,
                               const surrogates::Prediction& p, const std::string& modelPath);
 

@@ -15,6 +15,7 @@
 #include "post/mixer_results.hpp"
 #include "post/run_profile.hpp"
 #include "run/foam_runner.hpp"
+#include "run/label_protocol.hpp"
 #include "run/monitor_state.hpp"
 #include "run/run_dir.hpp"
 #include "store/snapshot_file.hpp"
@@ -274,6 +275,7 @@ nlohmann::json runMixer(const MixerJob& job) {
             post::addWarning(result, w.str());
         }
     }
+    judgeLabel(s, dir, result);
     if (job.profile) result["profile"] = post::readRunProfile(dir);
     finishRun(result, dir, s.hash(), dir / "loading.png", post::plotLoading(s, dir), job.snapshots);
     return result;
