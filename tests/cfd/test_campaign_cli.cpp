@@ -415,14 +415,15 @@ TEST(CampaignCli, ReadmeCommandRecreatesTheShippedMixerCampaignsScenes) {
     for (size_t i = 0; i < made.size(); ++i) EXPECT_EQ(made[i], shipped[i]) << "point " << i;
 }
 
-// A tiny real mixer campaign run with --warm-nearest: the first point starts from the deposit, the
+// A tiny real mixer campaign run with --warm-nearest (protocol scene: a label campaign refuses a
+// warm start, see LabelProtocolRefusesAWarmStart): the first point starts from the deposit, the
 // second from the first's latest fields (its powder at the start is what the first run ended
 // with), and the export says where each began. A collapse campaign refuses the option (exit 2).
 TEST(CampaignCli, WarmNearestStartsAPointFromTheNearestFinishedRun) {
     const fs::path dir = fs::canonical(scratchDir("campaign-warm"));
     const auto ranges = rangesFile(dir, "r", "scene = \"mixer\"\n[rpm]\nmin = 39\nmax = 60\nunit = \"rpm\"\n");
     auto r = runMixload({"campaign", "create", "w", "--ranges", ranges.string(), "--design", "sobol", "--n", "2",
-                         "--cell-size", "0.02", "--end-time", "0.05", "--dir", dir.string()});
+                         "--cell-size", "0.02", "--end-time", "0.05", "--protocol", "scene", "--dir", dir.string()});
     ASSERT_EQ(r.rc, 0) << r.err;
     r = runMixload({"campaign", "run", "w", "--warm-nearest", "--dir", dir.string(), "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
@@ -466,7 +467,7 @@ TEST(CampaignCli, WarmNearestStartsFromKeptFieldsWhenTheRunDirectoryIsGone) {
     const fs::path dir = fs::canonical(scratchDir("campaign-warm-kept"));
     const auto ranges = rangesFile(dir, "r", "scene = \"mixer\"\n[rpm]\nmin = 39\nmax = 60\nunit = \"rpm\"\n");
     auto r = runMixload({"campaign", "create", "k", "--ranges", ranges.string(), "--design", "sobol", "--n", "1",
-                         "--cell-size", "0.02", "--end-time", "0.05", "--dir", dir.string()});
+                         "--cell-size", "0.02", "--end-time", "0.05", "--protocol", "scene", "--dir", dir.string()});
     ASSERT_EQ(r.rc, 0) << r.err;
     ASSERT_EQ(runMixload({"campaign", "run", "k", "--warm-nearest", "--snapshots", "--dir", dir.string()}).rc, 0);
     const auto resultIn = [](const fs::path& runs) {
@@ -500,6 +501,35 @@ TEST(CampaignCli, WarmNearestStartsFromKeptFieldsWhenTheRunDirectoryIsGone) {
     EXPECT_EQ(nlohmann::json::parse(r.out)["counts"]["done"], 3) << r.out;
     EXPECT_NE(r.err.find("starts from its deposit"), std::string::npos) << r.err;
     EXPECT_TRUE(resultIn(dir / "k" / "runs")["start"].contains("deposit_kg"));
+}
+
+// A mixer campaign makes labels by default: its one tiny real run starts from the protocol's
+// 0.05 kg deposit and records protocol and verdict (too short to settle, so no label, and it says
+// why); a warm start on that campaign is refused before anything runs (exit 2).
+TEST(CampaignCli, LabelProtocolRefusesAWarmStart) {
+    const fs::path dir = fs::canonical(scratchDir("campaign-label"));
+    const auto ranges = rangesFile(dir, "r", "scene = \"mixer\"\n[rpm]\nmin = 39\nmax = 60\nunit = \"rpm\"\n");
+    auto r = runMixload({"campaign", "create", "l", "--ranges", ranges.string(), "--design", "sobol", "--n", "1",
+                         "--cell-size", "0.02", "--end-time", "0.05", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    r = runMixload({"campaign", "run", "l", "--warm-nearest", "--dir", dir.string()});
+    EXPECT_EQ(r.rc, 2) << r.err;
+    EXPECT_NE(r.err.find("label-v1"), std::string::npos) << r.err;
+    r = runMixload({"campaign", "status", "l", "--dir", dir.string(), "--json"});
+    EXPECT_EQ(nlohmann::json::parse(r.out)["counts"]["queued"], 1) << r.out;
+
+    r = runMixload({"campaign", "run", "l", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    nlohmann::json result;
+    for (const auto& e : fs::directory_iterator(dir / "l" / "runs"))
+        if (fs::exists(e.path() / "result.json")) {
+            std::ifstream in(e.path() / "result.json");
+            result = nlohmann::json::parse(in);
+        }
+    EXPECT_EQ(result.value("protocol", ""), "label-v1") << result.dump();
+    EXPECT_DOUBLE_EQ(result["start"].value("deposit_kg", 0.0), 0.05) << result["start"].dump();
+    EXPECT_FALSE(result.value("label", true));
+    EXPECT_FALSE(result.value("not_label_because", "").empty()) << result.dump();
 }
 
 TEST(CampaignCli, AMixerRunStoppedAndResumedCountsBothSlices) {
