@@ -18,6 +18,7 @@
 #include "mixload_version.hpp"
 #include "learning_curve.hpp"
 #include "model.hpp"
+#include "run/label_protocol.hpp"
 
 namespace mixload::app {
 
@@ -25,7 +26,8 @@ namespace {
 
 struct SurrogateCmd {
     std::string campaign, dir = "runs/campaigns", table, kind = "kriging", output, model, transform = "auto",
-                kernel = "matern52", trend = "constant", objective = "likelihood", holdoutCampaign, holdoutTable;
+                kernel = "matern52", trend = "constant", objective = "likelihood", holdoutCampaign, holdoutTable,
+                twoStates = "protocol";
     int holdout = 0, starts = 20;
     std::vector<int> sizes;
     std::vector<std::string> trendInputs;
@@ -37,15 +39,22 @@ struct SurrogateCmd {
 };
 
 // Training or checking data: a campaign's ledger or a CSV table, exactly one of them.
+// A point whose replicate sits in another steady state is labelled as --two-states says, and
+// source["two_states"] lists what was done.
 surrogates::Table loadRuns(const SurrogateCmd& o, nlohmann::json& source) {
     if (o.campaign.empty() == o.table.empty())
         throw InputError("--campaign / --table", "(both or neither)", "exactly one of them");
+    const auto policy = surrogates::twoStatesFromString(o.twoStates);
+    surrogates::Table t;
     if (!o.campaign.empty()) {
-        return experiments::campaignTable(o.campaign, o.dir, source);
+        t = experiments::campaignTable(o.campaign, o.dir, source);
+    } else {
+        t = surrogates::readTable(o.table);
+        source = t.provenance;
+        source["table"] = o.table;
     }
-    auto t = surrogates::readTable(o.table);
-    source = t.provenance;
-    source["table"] = o.table;
+    const auto two = surrogates::resolveTwoStates(t, policy, run::kLabelDepositKg);
+    if (!two.empty()) source["two_states"] = {{"policy", o.twoStates}, {"points", two}};
     return t;
 }
 
@@ -100,13 +109,14 @@ int fit(const SurrogateCmd& o) {
                                     {"holdout_ids", held},
                                     {"options", {{"kind", o.kind}, {"transform", o.transform}, {"similarity", o.similarity}, {"noise", o.noise}, {"select", !o.noSelect},
                                                  {"kernel", o.kernel}, {"trend", o.trend}, {"trend_inputs", o.trendInputs}, {"objective", o.objective}, {"starts", o.starts},
-                                                 {"seed", o.seed}}},
+                                                 {"seed", o.seed}, {"two_states", o.twoStates}}},
                                     {"mixload_version", kVersion},
                                     {"git_commit", kGitCommit},
                                     {"created_utc", utcNow()},
                                     {"command", "mixload surrogate fit " + (o.campaign.empty() ? "--table " + o.table : "--campaign " + o.campaign) +
                                                     " --kind " + o.kind + " --holdout " + std::to_string(o.holdout) +
-                                                    (o.similarity ? " --similarity" : "") + (o.noise > 0 ? " --noise " + formatNumber(o.noise) : "")}};
+                                                    (o.similarity ? " --similarity" : "") + (o.noise > 0 ? " --noise " + formatNumber(o.noise) : "") +
+                                                    " --two-states " + o.twoStates}};
     if (const auto base = experiments::campaignBaseScene(source.value("base", nlohmann::json()))) {
         provenance["full_barrel_m3"] = base->geometry.openVolume();
         provenance["cell_size_m"] = base->cellSize;  // a base that names a level ("coarse") means this
@@ -128,6 +138,22 @@ int fit(const SurrogateCmd& o) {
               << pct(v["mean_rel_error"]) << ", max " << pct(v["max_rel_error"]) << " relative error, 95% coverage "
               << pct(v["coverage95"]) << "\n  fitted in " << std::setprecision(3) << seconds << " s, written to " << o.output
               << '\n';
+    if (source.contains("two_states"))
+        for (const auto& p : source["two_states"]["points"]) {
+            std::cout << "  two steady states at " << p["id"].get<std::string>() << " (" << formatNumber(p["rpm"].get<double>())
+                      << " rpm, " << formatNumber(p["feed_kg_h"].get<double>()) << " kg/h): loadings";
+            for (size_t k = 0; k < p["loadings_kg"].size(); ++k)
+                std::cout << (k ? "," : "") << " " << formatNumber(p["loadings_kg"][k].get<double>()) << " kg (from "
+                          << (p["deposits_kg"][k].is_null() ? std::string("a warm start") : formatNumber(p["deposits_kg"][k].get<double>()) + " kg") << ")";
+            std::cout << "; " << (p["kept_kg"].is_null() ? std::string("left out") : "trained on " + formatNumber(p["kept_kg"].get<double>()) + " kg")
+                      << " (--two-states " << o.twoStates << ")\n";
+        }
+    if (model.kind() == "regimes")
+        for (const auto& p : v["parts"])
+            std::cout << "  " << p["regime"].get<std::string>() << " part: " << p["n_train"] << " runs (" << p["trained_on"].get<std::string>()
+                      << "), " << p["transform"].get<std::string>()
+                      << (p["trend_inputs"].get<std::string>().empty() ? "" : ", linear trend in " + p["trend_inputs"].get<std::string>())
+                      << "; leave-one-out on its regime's runs " << pct(p["own_loo_mean_rel_error"]) << '\n';
     for (const auto& w : model.warnings()) std::cout << "  warning: " << w << '\n';
     return 0;
 }
@@ -201,7 +227,9 @@ int info(const SurrogateCmd& o) {
     nlohmann::json out{{"model", o.model},      {"kind", j["kind"]},          {"inputs", j["inputs"]},
                        {"model_inputs", j["model_inputs"]}, {"output", j["output"]}, {"validation", j["validation"]}, {"provenance", j["provenance"]},
                        {"checks", j["checks"]}, {"warnings", m.warnings()},   {"n_train", m.trainingIds().size()}};
-    if (m.kind() == "rsm") {
+    if (m.kind() == "regimes") {
+        out["parts"] = j["validation"]["parts"];
+    } else if (m.kind() == "rsm") {
         const auto& mod = j["model"];
         nlohmann::json terms = nlohmann::json::array();
         std::vector<std::string> names;
@@ -247,8 +275,13 @@ int info(const SurrogateCmd& o) {
         for (const auto& t : out["coefficients"])
             std::cout << "    " << std::left << std::setw(20) << t["term"].get<std::string>() << std::right << std::setw(14)
                       << t["coefficient"].get<double>() << std::setw(14) << t["standard_error"].get<double>() << '\n';
-    } else {
+    } else if (out.contains("hyperparameters")) {
         std::cout << "  hyperparameters " << out["hyperparameters"].dump() << '\n';
+    } else {
+        for (const auto& p : out["parts"])
+            std::cout << "  " << p["regime"].get<std::string>() << " part: " << p["n_train"] << " runs, " << p["transform"].get<std::string>()
+                      << (p["trend_inputs"].get<std::string>().empty() ? "" : ", linear trend in " + p["trend_inputs"].get<std::string>())
+                      << "; leave-one-out on its regime's runs " << pct(p["own_loo_mean_rel_error"]) << '\n';
     }
     std::cout << "  checks recorded: " << out["checks"].size() << '\n';
     for (const auto& w : out["warnings"]) std::cout << "  warning: " << w.get<std::string>() << '\n';
@@ -292,6 +325,8 @@ int runCheck(const std::string& modelPath, const std::string& campaign, const st
              std::optional<double> threshold, bool record, bool json, bool quiet, bool listRuns, const std::string& plotDir) {
     auto m = surrogates::Surrogate::load(modelPath);
     SurrogateCmd o;
+    // The runs are labelled as the model's were (models before issue 64 kept every point's own run).
+    o.twoStates = m.provenance().value("options", nlohmann::json::object()).value("two_states", std::string("keep"));
     o.campaign = campaign;
     o.dir = dir;
     o.table = table;
@@ -432,7 +467,13 @@ void addFitOptions(CLI::App* c, SurrogateCmd* o) {
     c->add_option("--campaign", o->campaign, "Mixer campaign whose finished, steady runs train the model");
     c->add_option("--dir", o->dir, "Where campaigns live")->capture_default_str();
     c->add_option("--table", o->table, "CSV instead of a campaign (columns as `campaign export` writes)");
-    c->add_option("--kind", o->kind, "rsm | kriging")->capture_default_str();
+    c->add_option("--kind", o->kind,
+                  "rsm | kriging | regimes (a kriging model per flow regime: bed below 140 rpm, film above 205 rpm, the band between; blended over a few rpm)")
+        ->capture_default_str();
+    c->add_option("--two-states", o->twoStates,
+                  "A point whose replicate sits in another steady state (loadings more than 1.5 times apart): protocol (train on the run "
+                  "started nearest the label protocol's 0.05 kg deposit) | drop (leave the point out) | keep (the point's own run)")
+        ->capture_default_str();
     c->add_option("--transform", o->transform, "auto (by leave-one-out error) | none | log (log M, log of d, rho, feed, rpm)")
         ->capture_default_str();
     c->add_flag("--similarity", o->similarity,

@@ -15,6 +15,7 @@
 #include "common/input_error.hpp"
 #include "common/stats.hpp"
 #include "error_stats.hpp"
+#include "regime.hpp"
 
 namespace mixload::surrogates {
 
@@ -120,7 +121,8 @@ double nonPhysicalShare(const Surrogate& s) {
 }  // namespace
 
 Surrogate Surrogate::fit(const std::vector<Row>& train, const FitOptions& o, nlohmann::json provenance) {
-    if (o.kind != "rsm" && o.kind != "kriging") throw InputError("kind", o.kind, "rsm or kriging");
+    if (o.kind == "regimes") return fitRegimes(train, o, std::move(provenance));
+    if (o.kind != "rsm" && o.kind != "kriging") throw InputError("kind", o.kind, "rsm, kriging or regimes");
     const auto n = static_cast<Eigen::Index>(train.size());
     if (n < 5) throw InputError("training runs", std::to_string(n), "at least 5 finished, steady runs");
     Surrogate best;
@@ -264,10 +266,12 @@ Surrogate::Workspace Surrogate::makeWorkspace() const {
     Workspace ws;
     if (rsm_) ws.rsm.assign(rsm_->terms().size(), 0.0);
     if (kriging_) ws.kriging = kriging_->makeWorkspace();
+    for (const auto& part : parts_) ws.parts.push_back(part.makeWorkspace());
     return ws;
 }
 
 bool Surrogate::inBox(const Point& x) const {
+    if (!parts_.empty()) return inBoxRegimes(x);
     double v[kInputs];
     derive(x, v);
     for (size_t k = 0; k < in_.size(); ++k)
@@ -276,6 +280,7 @@ bool Surrogate::inBox(const Point& x) const {
 }
 
 double Surrogate::outsideDistance(const Point& x) const {
+    if (!parts_.empty()) return outsideRegimes(x);
     double z[kInputs];
     scale(x, z);
     return distanceOf(z);
@@ -302,6 +307,7 @@ void Surrogate::requireNearBox(const Point& x, const std::string& label) const {
 }
 
 std::vector<std::string> Surrogate::outsideBox(const Point& x) const {
+    if (!parts_.empty()) return outsideBoxRegimes(x);
     std::vector<std::string> out;
     double v[kInputs];
     derive(x, v);
@@ -317,6 +323,7 @@ void Surrogate::setFullBarrel() {
 }
 
 Prediction Surrogate::predict(const Point& x, Workspace& ws) const {
+    if (!parts_.empty()) return predictRegimes(x, ws);
     double z[kInputs];
     scale(x, z);
     double mean = 0, var = 0, q = kZ95;
@@ -333,6 +340,11 @@ Prediction Surrogate::predict(const Point& x, Workspace& ws) const {
     p.m = c * back(tf_.logOutput, mean);
     p.lo = c * back(tf_.logOutput, mean - q * sd);
     p.hi = c * back(tf_.logOutput, mean + q * sd);
+    finishPrediction(x, z, p);
+    return p;
+}
+
+void Surrogate::finishPrediction(const Point& x, const double* z, Prediction& p) const {
     // A loading is never negative: a model of M itself (not of log M) can say so far from its
     // runs, and the answer is then cut at zero and flagged.
     if (p.lo < 0 || p.m < 0) {
@@ -349,10 +361,10 @@ Prediction Surrogate::predict(const Point& x, Workspace& ws) const {
     }
     p.inBox = inBox(x);
     p.outside = distanceOf(z);
-    return p;
 }
 
 Difference Surrogate::predictDifference(const Point& a, const Point& b) const {
+    if (!parts_.empty()) return predictDifferenceRegimes(a, b);
     double za[kInputs], zb[kInputs];
     scale(a, za);
     scale(b, zb);
@@ -407,6 +419,8 @@ Difference Surrogate::predictDifference(const Point& a, const Point& b) const {
 std::vector<std::string> Surrogate::warnings() const {
     std::vector<std::string> out;
     if (validation_.contains("non_physical")) out.push_back(validation_["non_physical"].get<std::string>());
+    for (size_t r = 0; r < parts_.size(); ++r)
+        for (const auto& w : parts_[r].warnings()) out.push_back(std::string(regimeName(static_cast<Regime>(r))) + " part: " + w);
     if (!kriging_) return out;
     // The kriging model numbers its inputs; name them.
     for (auto w : kriging_->warnings()) {
@@ -439,7 +453,7 @@ nlohmann::json Surrogate::toJson() const {
                      {"similarity", tf_.similarity},
                      {"model_inputs", model},
                      {"output", {{"name", kOutputName}, {"unit", "kg"}, {"log", tf_.logOutput}, {"per_rho", tf_.similarity}}},
-                     {"model", rsm_ ? rsm_->toJson() : kriging_->toJson()},
+                     {"model", !parts_.empty() ? regimesJson() : rsm_ ? rsm_->toJson() : kriging_->toJson()},
                      {"t_quantile", rsm_ ? nlohmann::json(tQuantile_) : nlohmann::json()},
                      {"training_ids", trained_},
                      {"validation", validation_},
@@ -461,7 +475,8 @@ Surrogate Surrogate::fromJson(const nlohmann::json& j) {
                                  std::to_string(kModelSchemaVersion));
     Surrogate s;
     s.kind_ = need(j, "kind").get<std::string>();
-    if (s.kind_ != "rsm" && s.kind_ != "kriging") throw std::runtime_error("unknown kind '" + s.kind_ + "'");
+    if (s.kind_ != "rsm" && s.kind_ != "kriging" && s.kind_ != "regimes")
+        throw std::runtime_error("unknown kind '" + s.kind_ + "'");
     const auto& inputs = need(j, "inputs");
     if (!inputs.is_array() || inputs.size() != kInputs) throw std::runtime_error("field 'inputs' must list the 7 inputs");
     for (size_t k = 0; k < kInputs; ++k) {
@@ -491,7 +506,9 @@ Surrogate Surrogate::fromJson(const nlohmann::json& j) {
     }
     s.tf_.logOutput = need(need(j, "output"), "log");
     const auto& fitted = need(j, "model");
-    if (s.kind_ == "rsm") {
+    if (s.kind_ == "regimes") {
+        s.regimesFromJson(fitted);
+    } else if (s.kind_ == "rsm") {
         s.rsm_ = ResponseSurface::fromJson(fitted);
         if (s.rsm_->dims() != s.dims()) throw std::runtime_error("the response surface's dimension is not the model inputs' count");
         s.tQuantile_ = need(j, "t_quantile").is_null() ? kNaN : j["t_quantile"].get<double>();

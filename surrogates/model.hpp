@@ -40,7 +40,11 @@ struct Transform {
 };
 
 struct FitOptions {
-    std::string kind = "kriging";    // rsm | kriging
+    // rsm | kriging | regimes (a kriging model per flow regime, surrogates/regime.hpp: bed on the
+    // runs up to the film's boundary, transition on every run, film on the film's runs; each
+    // part's transform and trend chosen by leave-one-out error on its own regime's runs; blended
+    // in rpm over kRegimeBlendRpm at the boundaries)
+    std::string kind = "kriging";
     std::string transform = "auto";  // auto (chosen by leave-one-out error) | none | log
     bool similarity = false;         // fit M/rho in the similarity variables (Transform::similarity)
     // Relative scatter of a run's loading (the steady test's label noise, about 0.01): kriging's
@@ -88,6 +92,7 @@ public:
     struct Workspace {
         std::vector<double> rsm;
         Kriging::Workspace kriging;
+        std::vector<Workspace> parts;  // regimes
     };
 
     static Surrogate fit(const std::vector<Row>& train, const FitOptions& o, nlohmann::json provenance);
@@ -110,6 +115,8 @@ public:
     std::vector<std::string> outsideBox(const Point& x) const;
 
     const std::string& kind() const { return kind_; }
+    // regimes: the bed, transition and film models (empty for other kinds).
+    const std::vector<Surrogate>& parts() const { return parts_; }
     const Transform& transform() const { return tf_; }
     // The physical inputs' range over the training runs.
     const Point& boxMin() const { return min_; }
@@ -134,6 +141,16 @@ public:
     void save(const std::filesystem::path& file) const;        // atomic
 
 private:
+    static Surrogate fitRegimes(const std::vector<Row>& train, const FitOptions& o, nlohmann::json provenance);
+    Prediction predictRegimes(const Point& x, Workspace& ws) const;
+    Difference predictDifferenceRegimes(const Point& a, const Point& b) const;
+    nlohmann::json regimesJson() const;
+    // A regime model's point is inside when it is inside the box of every part that answers it.
+    bool inBoxRegimes(const Point& x) const;
+    double outsideRegimes(const Point& x) const;
+    std::vector<std::string> outsideBoxRegimes(const Point& x) const;
+    void regimesFromJson(const nlohmann::json& model);
+    void finishPrediction(const Point& x, const double* z, Prediction& p) const;  // clipping, full barrel, box
     void derive(const Point& x, double* v) const;  // the model inputs, physical units
     double distanceOf(const double* z) const;      // Prediction::outside from scaled inputs
     void scale(const Point& x, double* z) const;
@@ -149,6 +166,7 @@ private:
     Point umin_{}, umax_{};      // the same box in transformed units
     std::optional<ResponseSurface> rsm_;
     std::optional<Kriging> kriging_;
+    std::vector<Surrogate> parts_;  // regimes: bed, transition, film
     double tQuantile_ = 0;       // rsm: Student t 97.5% quantile at its dof
     double fullBarrelM3_ = 0;    // provenance "full_barrel_m3": the scene's open barrel volume (0: unknown)
     std::vector<std::string> trained_;

@@ -6,6 +6,9 @@
 // (v2-holdout point 1 at 200 rpm: 0.104 kg from a dense layer, 0.027-0.045 kg on coarser meshes).
 // The same split carries the shipped model's measured errors per regime (`mixload check`).
 #pragma once
+#include <array>
+#include <cmath>
+
 #include "inputs.hpp"
 
 namespace mixload::surrogates {
@@ -16,6 +19,16 @@ inline constexpr double kBedMaxRpm = 140, kFilmMinRpm = 205;
 inline Regime regimeOf(const Point& x) {
     return x[kRpm] < kBedMaxRpm ? Regime::Bed : x[kRpm] > kFilmMinRpm ? Regime::Film : Regime::Transition;
 }
+// A regime model (kind "regimes") hands over between its parts over a few rpm either side of each
+// boundary, so its answer has no jump there: logistic weights of this scale [rpm].
+inline constexpr double kRegimeBlendRpm = 2.5;
+// Weights of the bed, transition and film parts at rpm (they sum to one).
+inline std::array<double, 3> regimeWeights(double rpm) {
+    const double bed = 1 / (1 + std::exp((rpm - kBedMaxRpm) / kRegimeBlendRpm));
+    const double film = 1 / (1 + std::exp((kFilmMinRpm - rpm) / kRegimeBlendRpm));
+    return {bed, std::max(0.0, 1 - bed - film), film};
+}
+
 inline const char* regimeName(Regime r) {
     return r == Regime::Bed ? "bed" : r == Regime::Film ? "film" : "transition";
 }

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "table.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <regex>
@@ -11,6 +13,14 @@
 namespace mixload::surrogates {
 
 namespace {
+
+double numberOr(const std::string& s, double fallback) {
+    try {
+        return std::stod(s);
+    } catch (const std::exception&) {
+        return fallback;
+    }
+}
 
 // CSV fields with "quoted, fields" and "" escapes, as the campaign export writes them.
 std::vector<std::string> splitCsv(const std::string& line) {
@@ -120,10 +130,7 @@ Table readTable(const std::filesystem::path& csv) {
         }
         // A campaign export's replicate (a design point run again from another deposit, the only rows
         // with a deposit of their own) would count its point twice, as in a campaign's table.
-        if (!field("initial_loading_kg").empty()) {
-            ++t.replicates;
-            continue;
-        }
+        const bool replicate = !field("initial_loading_kg").empty();
         Row r;
         r.id = !field("scene_hash").empty() ? field("scene_hash")
                : !field("index").empty()    ? field("index")
@@ -136,9 +143,61 @@ Table readTable(const std::filesystem::path& csv) {
             continue;
         }
         if (deltaMu) r.x[kMuD] += r.x[kMuS];
-        t.rows.push_back(r);
+        const std::string start = field("start");
+        if (replicate) r.depositKg = numberOr(field("initial_loading_kg"), -1);
+        else if (start.rfind("deposit:", 0) == 0) r.depositKg = numberOr(start.substr(8), -1);
+        if (replicate) {
+            ++t.replicates;
+            t.replicateRuns.push_back(r);
+        } else {
+            t.rows.push_back(r);
+        }
     }
     return t;
+}
+
+TwoStates twoStatesFromString(const std::string& s) {
+    if (s == "protocol") return TwoStates::Protocol;
+    if (s == "drop") return TwoStates::Drop;
+    if (s == "keep") return TwoStates::Keep;
+    throw InputError("two-states", s, "protocol | drop | keep");
+}
+
+nlohmann::json resolveTwoStates(Table& t, TwoStates policy, double protocolDepositKg) {
+    nlohmann::json report = nlohmann::json::array();
+    std::vector<Row> kept;
+    for (auto& row : t.rows) {
+        std::vector<const Row*> runs{&row};
+        for (const auto& rep : t.replicateRuns)
+            if (rep.x == row.x) runs.push_back(&rep);
+        double lo = row.m, hi = row.m;
+        for (const auto* r : runs) lo = std::min(lo, r->m), hi = std::max(hi, r->m);
+        if (runs.size() < 2 || !(lo > 0) || hi / lo <= kTwoStateRatio) {
+            kept.push_back(row);
+            continue;
+        }
+        // Nearest the protocol's deposit; a warm or unrecorded start is never the protocol's.
+        const Row* best = nullptr;
+        for (const auto* r : runs)
+            if (r->depositKg >= 0 && (!best || std::abs(r->depositKg - protocolDepositKg) < std::abs(best->depositKg - protocolDepositKg)))
+                best = r;
+        nlohmann::json loadings = nlohmann::json::array(), deposits = nlohmann::json::array();
+        for (const auto* r : runs) {
+            loadings.push_back(r->m);
+            deposits.push_back(r->depositKg >= 0 ? nlohmann::json(r->depositKg) : nlohmann::json());
+        }
+        nlohmann::json e{{"id", row.id}, {"rpm", row.x[kRpm]}, {"feed_kg_h", row.x[kFeed]}, {"loadings_kg", loadings},
+                         {"deposits_kg", deposits}};
+        Row label = row;
+        bool use = true;
+        if (policy == TwoStates::Drop || (policy == TwoStates::Protocol && !best)) use = false;
+        else if (policy == TwoStates::Protocol) label.m = best->m, label.depositKg = best->depositKg;
+        e["kept_kg"] = use ? nlohmann::json(label.m) : nlohmann::json();
+        report.push_back(e);
+        if (use) kept.push_back(label);
+    }
+    t.rows = std::move(kept);
+    return report;
 }
 
 std::vector<Point> readInputs(const std::filesystem::path& csv) {

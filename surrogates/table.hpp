@@ -15,6 +15,7 @@ struct Row {
     std::string id;  // the run's scene hash (stable across ledgers and exports)
     Point x{};
     double m = 0;    // mixer loading [kg]
+    double depositKg = -1;  // the powder the run started from, when it started from a deposit (-1: a warm or unrecorded start)
 };
 
 struct Table {
@@ -23,12 +24,29 @@ struct Table {
     // Campaign runs that repeat a design point from another deposit (campaign replicate): they
     // measure the label noise (campaign noise) and are neither training nor hold-out points.
     size_t replicates = 0;
+    std::vector<Row> replicateRuns;  // those runs, for resolveTwoStates
     // From a campaign export's first line ("# campaign NAME, scene ..., design ..., seed ..., base
     // {...}, created ... by mixload V (COMMIT)"): campaign, design, seed, base, campaign_created,
     // campaign_mixload_version, campaign_git_commit, as a model fitted to the campaign records
     // them. Empty for other tables.
     nlohmann::json provenance = nlohmann::json::object();
 };
+
+// A point and its replicate whose loadings differ by more than this ratio sit in two steady states
+// (the start picked the state), not in one state with label noise: on gcm250-v2 one state's
+// replicates differ by 2-7%, v2 point 1 (250 rpm) by 6.8 times (a dense bed kept from 0.32 kg
+// against a film from 0.055 kg).
+inline constexpr double kTwoStateRatio = 1.5;
+
+// What a point in two states trains and checks with: protocol (the run whose deposit is nearest the
+// label protocol's, its start), drop (neither: the point is not a function of its inputs), keep
+// (the point's own run, as before issue 64).
+enum class TwoStates { Protocol, Drop, Keep };
+TwoStates twoStatesFromString(const std::string& s);  // InputError naming --two-states
+
+// Applies the policy to every row with a replicate in another state and returns what it did, one
+// entry per such point: {id, rpm, feed_kg_h, loadings_kg, deposits_kg, kept_kg or null}.
+nlohmann::json resolveTwoStates(Table& t, TwoStates policy, double protocolDepositKg);
 
 // Reads a CSV such as `mixload campaign export` writes ('#' lines are comments). Needs the seven
 // input columns (mu_d, or delta_mu with mu_d = mu_s + delta_mu) and loading_kg; uses scene_hash (or

@@ -35,21 +35,26 @@ surrogates::Table campaignTable(const std::string& name, const std::string& dir,
                   {"campaign_mixload_version", c.mixloadVersion}, {"campaign_git_commit", c.gitCommit}};
     surrogates::Table t;
     for (const auto& r : l->runs(name)) {
-        // As in the POD regression: a replicate counts its point twice, in training or hold-out.
-        if (store::isReplicate(r)) {
-            ++t.replicates;
-            continue;
-        }
+        // As in the POD regression: a replicate counts its point twice, in training or hold-out; it
+        // only says whether its point has one state (resolveTwoStates).
         const auto m = runQuantity(r, c.scene);
         if (!m) {
-            ++t.skipped;
+            ++(store::isReplicate(r) ? t.replicates : t.skipped);
             continue;
         }
         surrogates::Row row;
         row.id = r.params.value("scene_hash", std::to_string(r.index));
         row.x = mixerInputs(c.sceneJson, r.params);  // every input as the run saw it
         row.m = *m;
-        t.rows.push_back(row);
+        const auto start = r.result.value("start", nlohmann::json::object());
+        if (start.contains("deposit_kg")) row.depositKg = start["deposit_kg"].get<double>();
+        if (store::isReplicate(r)) {
+            row.depositKg = r.params["initial_loading_kg"].get<double>();
+            ++t.replicates;
+            t.replicateRuns.push_back(row);
+        } else {
+            t.rows.push_back(row);
+        }
     }
     provenance["replicates_left_out"] = t.replicates;
     return t;

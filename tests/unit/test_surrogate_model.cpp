@@ -16,6 +16,7 @@
 #include "common/input_error.hpp"
 #include "learning_curve.hpp"
 #include "model.hpp"
+#include "synthetic_runs.hpp"
 
 using namespace mixload::surrogates;
 namespace fs = std::filesystem;
@@ -29,19 +30,11 @@ double law(const Point& x) {
 }
 
 std::vector<Row> rows(int n, unsigned seed) {
-    std::mt19937 g(seed);
-    std::uniform_real_distribution<double> u(0, 1);
-    std::vector<Row> out;
-    for (int i = 0; i < n; ++i) {
-        Row r;
-        r.id = "run" + std::to_string(seed) + "-" + std::to_string(i);
-        const double mus = 0.2 + 0.25 * u(g);
-        r.x = {mus, mus + 0.05 + 0.25 * u(g), 0.1 + 0.5 * u(g), 100e-6 + 300e-6 * u(g), 250 + 350 * u(g), 5 + 40 * u(g),
-               39 + 215 * u(g)};
-        r.m = law(r.x);
-        out.push_back(r);
-    }
-    return out;
+    return mixload::testing::syntheticRuns(n, seed, "run", [](auto u) {
+        const double mus = 0.2 + 0.25 * u();
+        return Point{mus, mus + 0.05 + 0.25 * u(), 0.1 + 0.5 * u(), 100e-6 + 300e-6 * u(), 250 + 350 * u(), 5 + 40 * u(),
+                     39 + 215 * u()};
+    }, law);
 }
 
 fs::path scratch(const std::string& name) {
