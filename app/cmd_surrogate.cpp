@@ -65,6 +65,17 @@ std::string pct(const nlohmann::json& v) {
     return os.str();
 }
 
+// A regime model's parts, one line each: what each learnt from and how well on its own regime.
+void printParts(const nlohmann::json& parts) {
+    for (const auto& p : parts) {
+        const auto trend = p["trend_inputs"].get<std::string>();
+        std::cout << "  " << p["regime"].get<std::string>() << " part: " << p["n_train"] << " runs ("
+                  << p["trained_on"].get<std::string>() << "), " << p["transform"].get<std::string>()
+                  << (trend.empty() ? "" : ", linear trend in " + trend) << "; leave-one-out on its regime's runs "
+                  << pct(p["own_loo_mean_rel_error"]) << '\n';
+    }
+}
+
 surrogates::FitOptions fitOptions(const SurrogateCmd& o) {
     surrogates::FitOptions f;
     f.kind = o.kind;
@@ -148,12 +159,7 @@ int fit(const SurrogateCmd& o) {
             std::cout << "; " << (p["kept_kg"].is_null() ? std::string("left out") : "trained on " + formatNumber(p["kept_kg"].get<double>()) + " kg")
                       << " (--two-states " << o.twoStates << ")\n";
         }
-    if (model.kind() == "regimes")
-        for (const auto& p : v["parts"])
-            std::cout << "  " << p["regime"].get<std::string>() << " part: " << p["n_train"] << " runs (" << p["trained_on"].get<std::string>()
-                      << "), " << p["transform"].get<std::string>()
-                      << (p["trend_inputs"].get<std::string>().empty() ? "" : ", linear trend in " + p["trend_inputs"].get<std::string>())
-                      << "; leave-one-out on its regime's runs " << pct(p["own_loo_mean_rel_error"]) << '\n';
+    if (model.kind() == "regimes") printParts(v["parts"]);
     for (const auto& w : model.warnings()) std::cout << "  warning: " << w << '\n';
     return 0;
 }
@@ -278,10 +284,7 @@ int info(const SurrogateCmd& o) {
     } else if (out.contains("hyperparameters")) {
         std::cout << "  hyperparameters " << out["hyperparameters"].dump() << '\n';
     } else {
-        for (const auto& p : out["parts"])
-            std::cout << "  " << p["regime"].get<std::string>() << " part: " << p["n_train"] << " runs, " << p["transform"].get<std::string>()
-                      << (p["trend_inputs"].get<std::string>().empty() ? "" : ", linear trend in " + p["trend_inputs"].get<std::string>())
-                      << "; leave-one-out on its regime's runs " << pct(p["own_loo_mean_rel_error"]) << '\n';
+        printParts(out["parts"]);
     }
     std::cout << "  checks recorded: " << out["checks"].size() << '\n';
     for (const auto& w : out["warnings"]) std::cout << "  warning: " << w.get<std::string>() << '\n';

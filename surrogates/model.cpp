@@ -340,11 +340,13 @@ Prediction Surrogate::predict(const Point& x, Workspace& ws) const {
     p.m = c * back(tf_.logOutput, mean);
     p.lo = c * back(tf_.logOutput, mean - q * sd);
     p.hi = c * back(tf_.logOutput, mean + q * sd);
-    finishPrediction(x, z, p);
+    physicalBounds(x, p);
+    p.inBox = inBox(x);
+    p.outside = distanceOf(z);
     return p;
 }
 
-void Surrogate::finishPrediction(const Point& x, const double* z, Prediction& p) const {
+void Surrogate::physicalBounds(const Point& x, Prediction& p) const {
     // A loading is never negative: a model of M itself (not of log M) can say so far from its
     // runs, and the answer is then cut at zero and flagged.
     if (p.lo < 0 || p.m < 0) {
@@ -359,8 +361,6 @@ void Surrogate::finishPrediction(const Point& x, const double* z, Prediction& p)
         p.lo = std::min(p.lo, p.fullBarrelKg);
         p.hi = std::min(p.hi, p.fullBarrelKg);
     }
-    p.inBox = inBox(x);
-    p.outside = distanceOf(z);
 }
 
 Difference Surrogate::predictDifference(const Point& a, const Point& b) const {

@@ -150,7 +150,7 @@ private:
     double outsideRegimes(const Point& x) const;
     std::vector<std::string> outsideBoxRegimes(const Point& x) const;
     void regimesFromJson(const nlohmann::json& model);
-    void finishPrediction(const Point& x, const double* z, Prediction& p) const;  // clipping, full barrel, box
+    void physicalBounds(const Point& x, Prediction& p) const;  // clip at zero and at a full barrel, flagged
     void derive(const Point& x, double* v) const;  // the model inputs, physical units
     double distanceOf(const double* z) const;      // Prediction::outside from scaled inputs
     void scale(const Point& x, double* z) const;

@@ -189,11 +189,7 @@ Prediction Surrogate::predictRegimes(const Point& x, Workspace& ws) const {
     p.m /= weight;
     p.lo = lo;
     p.hi = hi;
-    double z[kInputs];
-    scale(x, z);
-    const bool clipped = p.clipped;
-    finishPrediction(x, z, p);
-    p.clipped = p.clipped || clipped;
+    physicalBounds(x, p);
     p.inBox = inside;
     p.outside = outside;
     return p;

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <random>
 
-#include "alloc_counter.hpp"
 #include "common/input_error.hpp"
 #include "model.hpp"
 #include "regime.hpp"
@@ -64,17 +63,13 @@ TEST(RegimeModel, BeatsOneKrigingAcrossTheBandAndRoundTrips) {
     }
 }
 
-TEST(RegimeModel, PredictionDoesNotAllocateAndIntervalsStayPhysical) {
+// (Allocation-free prediction: SurrogateModel.PredictionDoesNotAllocate covers this kind too.)
+TEST(RegimeModel, IntervalsStayPhysical) {
     FitOptions o;
     o.kind = "regimes";
     const auto m = Surrogate::fit(rows(60, 3), o, {});
     const auto pts = rows(200, 4);
     auto ws = m.makeWorkspace();
-    double sum = 0;
-    mixload::testing::startCountingAllocations();
-    for (const auto& p : pts) sum += m.predict(p.x, ws).m;
-    EXPECT_EQ(mixload::testing::stopCountingAllocations(), 0);
-    EXPECT_TRUE(std::isfinite(sum));
     for (const auto& p : pts) {
         const auto q = m.predict(p.x, ws);
         EXPECT_GE(q.lo, 0);

@@ -123,7 +123,7 @@ TEST(SurrogateModel, KnowsItsTrainingBox) {
 }
 
 TEST(SurrogateModel, PredictionDoesNotAllocate) {
-    for (const char* kind : {"rsm", "kriging"}) {
+    for (const char* kind : {"rsm", "kriging", "regimes"}) {
         FitOptions o;
         o.kind = kind;
         const auto m = Surrogate::fit(rows(40, 5), o, {});
