@@ -9,6 +9,7 @@
 
 #include "bench/pareto.hpp"
 #include "campaign/campaign_table.hpp"
+#include "cases/meshed_geometry.hpp"
 #include "common/atomic_file.hpp"
 #include "common/clock.hpp"
 #include "common/input_error.hpp"
@@ -33,8 +34,9 @@ struct SteadyRuns {
     store::CampaignInfo info;
     std::map<int, SteadyRun> runs;
     double coreSeconds = 0;  // every finished run's, steady or not: what the campaign cost
+    scene::MixerScene scene() const { return mixerSceneFor(info.sceneJson, nlohmann::json::object()); }
     std::string mesh() const {
-        return formatNumber(mixerSceneFor(info.sceneJson, nlohmann::json::object()).cellSize * 100) + " cm";
+        return formatNumber(scene().cellSize * 100) + " cm";
     }
 };
 
@@ -88,6 +90,7 @@ nlohmann::json runMixerPareto(const MixerPareto& b) {
     std::vector<SteadyRuns> coarse;
     for (const auto& c : b.coarse) {
         coarse.push_back(steadyRuns(c));
+        cases::requireSameImpeller(ref.scene(), coarse.back().scene(), "coarse", c.name);
         for (const auto& [i, r] : coarse.back().runs)
             if (ref.runs.count(i) && !samePoint(ref.runs.at(i).params, r.params))
                 throw InputError("coarse", c.name, "the hold-out's design (point " + std::to_string(i) + " differs)");

@@ -15,6 +15,7 @@
 #include <type_traits>
 
 #include "campaign/design_space.hpp"
+#include "cases/meshed_geometry.hpp"
 #include "campaign/driver_lock.hpp"
 #include "campaign/forecast.hpp"
 #include "campaign/progress.hpp"
@@ -255,6 +256,9 @@ nlohmann::json createCampaign(const CampaignSpec& o) {
                                               o.design == "lhs" ? latinHypercube(o.n, static_cast<int>(space.params.size()),
                                                                                  static_cast<std::uint64_t>(o.seed))
                                                                 : sobol(o.n, static_cast<int>(space.params.size())));
+    // The points vary the powder and the operating point, never the impeller: one check of the base
+    // scene's geometry on its mesh covers them all.
+    if (space.scene == "mixer") cases::requireSceneGeometry(mixerSceneFor(base, nlohmann::json::object()));
     store::CampaignInfo info;
     info.name = o.place.name;
     info.scene = space.scene;

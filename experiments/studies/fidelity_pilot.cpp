@@ -5,6 +5,8 @@
 #include <map>
 #include <sstream>
 
+#include "campaign/campaign.hpp"
+#include "cases/meshed_geometry.hpp"
 #include "common/atomic_file.hpp"
 #include "common/gnuplot.hpp"
 #include "common/input_error.hpp"
@@ -62,6 +64,38 @@ std::map<std::string, Side> studyRuns(const std::filesystem::path& dir) {
     return out;
 }
 
+// Two mixer campaigns are paired only if their meshes cut one impeller (a collapse has none).
+void requireSameCampaignImpeller(const std::filesystem::path& fine, const std::filesystem::path& coarse) {
+    const auto info = [](const std::filesystem::path& dir) { return store::Ledger(dir / "ledger.sqlite").campaign(dir.filename().string()); };
+    const auto a = info(fine), b = info(coarse);
+    if (!a || !b || a->scene != "mixer" || b->scene != "mixer") return;  // campaignRuns names the missing ledger
+    cases::requireSameImpeller(mixerSceneFor(a->sceneJson, nlohmann::json::object()),
+                               mixerSceneFor(b->sceneJson, nlohmann::json::object()), "coarse", coarse.string());
+}
+
+// The impeller a formulation study's reference run simulated (what its mesh cut), which studies
+// record since issue 65; older studies compared meshes that cut different paddles, unseen.
+nlohmann::json studyImpeller(const std::filesystem::path& dir) {
+    const auto j = nlohmann::json::parse(readFile(dir / "study.json"));
+    const auto ref = j.value("reference", nlohmann::json::object());
+    if (!ref.is_object() || !ref.contains("impeller"))
+        throw InputError("study", dir.string(),
+                         "a study whose runs record the impeller they simulated (reference.impeller, written since "
+                         "issue 65): without it the two meshes may have cut different paddles");
+    return ref["impeller"];
+}
+
+void requireSameStudyImpeller(const std::filesystem::path& fine, const std::filesystem::path& coarse) {
+    const auto a = studyImpeller(fine), b = studyImpeller(coarse);
+    for (const char* k : {"paddle_thickness_m", "paddle_width_m", "paddle_radial_m"}) {
+        const double x = a.value(k, 0.0), y = b.value(k, 0.0);
+        if (!(std::abs(x - y) <= cases::kGeometryTolerance * std::max(x, y)))
+            throw InputError("coarse", coarse.string(),
+                             "a study of the same impeller as " + fine.string() + " (" + k + " " + formatNumber(x) +
+                                 " there, " + formatNumber(y) + " here: another impeller, not another resolution)");
+    }
+}
+
 bool isCampaign(const std::filesystem::path& dir) { return std::filesystem::is_regular_file(dir / "ledger.sqlite"); }
 
 // Both sides' steady runs, keyed so that equal keys are a pair.
@@ -70,8 +104,13 @@ std::pair<std::map<std::string, Side>, std::map<std::string, Side>> pairable(con
     if (isCampaign(fine) != isCampaign(coarse))
         throw InputError("study", coarse.string(), std::string("the same kind as ") + fine.string() +
                                                        " (two formulation studies or two campaigns)");
-    if (!isCampaign(fine)) return {studyRuns(fine), studyRuns(coarse)};
+    if (!isCampaign(fine)) {
+        auto f = studyRuns(fine), c = studyRuns(coarse);
+        requireSameStudyImpeller(fine, coarse);
+        return {f, c};
+    }
     auto f = campaignRuns(fine), c = campaignRuns(coarse);
+    requireSameCampaignImpeller(fine, coarse);
     std::map<std::string, Side> fs, cs;
     for (const auto& [k, v] : f)
         if (const auto it = c.find(k); it != c.end() && it->second.second == v.second) {

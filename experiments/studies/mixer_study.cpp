@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "cases/meshed_geometry.hpp"
 #include "common/atomic_file.hpp"
 #include "common/process.hpp"
 #include "common/gnuplot.hpp"
@@ -111,6 +112,8 @@ std::vector<nlohmann::json> runMixerScenes(const std::vector<scene::MixerScene>&
                                            std::optional<std::chrono::steady_clock::time_point> deadline) {
     if (!warmFrom.empty() && warmFrom.size() != scenes.size())
         throw std::logic_error("runMixerScenes: one warm start per scene, or none");
+    // Each run would refuse a mesh that cannot cut its paddles; the study refuses before the first.
+    for (const auto& s : scenes) cases::requireSceneGeometry(s);
     std::vector<std::string> suffix(scenes.size());
     for (size_t i = 0; i < warmFrom.size(); ++i) {
         if (warmFrom[i].empty()) continue;
@@ -150,6 +153,9 @@ std::vector<nlohmann::json> runMixerScenes(const std::vector<scene::MixerScene>&
                                   "dense_loading_kg", "warning", "end_time_s", "cells", "wall_seconds",
                                   "core_seconds", "error", "stopped", "run_dir", "history"})
                 if (r.contains(k)) out[i][k] = r[k];
+            // The impeller the run simulated, so that studies of two meshes are compared only if it
+            // is one impeller (study fidelity).
+            if (r.contains("mesh") && r["mesh"].contains("geometry")) out[i]["impeller"] = r["mesh"]["geometry"];
             if (r.contains("end_time_s")) out[i]["start_time_s"] = post::startTime(r);
         });
     return out;
@@ -237,6 +243,7 @@ std::vector<nlohmann::json> runSmFromMrf(const MixerStudy& study, const fs::path
 }  // namespace
 
 nlohmann::json runMixerStudy(const MixerStudy& study) {
+    for (const auto& s : study.scenes) cases::requireSceneGeometry(s);  // before any directory
     const fs::path runs = study.runs.empty() ? study.out / "runs" : study.runs;
     fs::create_directories(runs);
     fs::create_directories(study.out);

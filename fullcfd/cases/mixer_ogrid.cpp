@@ -85,11 +85,24 @@ std::string patch(const std::string& name, const std::string& type,
 
 }  // namespace
 
+// A plate of cells is closed to flow only if its cells share faces, not just edges: for a plate
+// with normal cos(b) e_phi + sin(b) e_x that needs a thickness of at least h_phi cos(b) + h_x sin(b)
+// (a "standard" digital plane), here with 5% to spare. Thinner paddles would leak.
+double ogridMinPaddleThickness(const scene::MixerScene& s, const OGridSize& c) {
+    const auto& g = s.geometry;
+    const double beta = g.pitchDeg * kPi / 180.0;
+    const double hPhi = g.tipRadius() * 2 * kPi / (c.sectors * c.perSector);
+    const double hX = (g.rotorX1() - g.rotorX0()) / c.axialMid;
+    return 1.05 * (hPhi * std::abs(std::cos(beta)) + hX * std::abs(std::sin(beta)));
+}
+
 long OGridSize::cells() const {
     const long around = static_cast<long>(sectors) * perSector;
     const long radial = radialInner + radialTip + radialOuter;
     return around * (radial * 2 * axialEnd + radial * axialMid);
 }
+
+double ogridMinPaddleThickness(const scene::MixerScene& s) { return ogridMinPaddleThickness(s, ogridSize(s)); }
 
 OGridSize ogridSize(const scene::MixerScene& s) {
     const auto& g = s.geometry;
@@ -101,14 +114,7 @@ OGridSize ogridSize(const scene::MixerScene& s) {
     c.radialOuter = std::max(1, static_cast<int>(std::lround((g.radius() - g.rotorRadius()) / h)));
     c.axialEnd = std::max(1, static_cast<int>(std::lround(g.endGap / h)));
     c.axialMid = std::max(2, static_cast<int>(std::ceil((g.rotorX1() - g.rotorX0()) / h)));
-    // A plate of cells is closed to flow only if its cells share faces, not just edges: for a
-    // plate with normal cos(b) e_phi + sin(b) e_x that needs a thickness of at least
-    // h_phi cos(b) + h_x sin(b) (a "standard" digital plane). Thinner paddles would leak.
-    const double beta = g.pitchDeg * kPi / 180.0;
-    const double hPhi = g.tipRadius() * 2 * kPi / (c.sectors * c.perSector);
-    const double hX = (g.rotorX1() - g.rotorX0()) / c.axialMid;
-    c.paddleThickness = std::max(
-        g.paddleThickness, 1.05 * (hPhi * std::abs(std::cos(beta)) + hX * std::abs(std::sin(beta))));
+    c.paddleThickness = std::max(g.paddleThickness, ogridMinPaddleThickness(s, c));
     return c;
 }
 

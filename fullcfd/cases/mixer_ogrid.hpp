@@ -22,11 +22,14 @@ struct OGridSize {
     int radialOuter = 1;    // interface -> bore
     int axialEnd = 1;       // each stationary end layer
     int axialMid = 0;       // the rotating zone's length
-    double paddleThickness = 0;  // thickness of the cut-out paddles [m] (>= the scene's)
+    double paddleThickness = 0;  // thickness of the cut-out paddles [m] (>= the scene's; cases/meshed_geometry refuses more than 2% over)
     long cells() const;     // before the paddles are cut out
 };
 
 OGridSize ogridSize(const scene::MixerScene& s);
+// The thinnest paddle the O-grid of this scene's cell size closes to flow [m].
+double ogridMinPaddleThickness(const scene::MixerScene& s);
+double ogridMinPaddleThickness(const scene::MixerScene& s, const OGridSize& c);
 
 std::string ogridBlockMeshDict(const scene::MixerScene& s);
 // The paddle cells (cut out) and the cells kept.

@@ -2,7 +2,10 @@
 #include "post/mesh_geometry.hpp"
 
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
+
+#include "common/hash.hpp"
 
 namespace mixload::post {
 
@@ -85,6 +88,24 @@ MeshGeometry meshGeometry(const FoamMesh& mesh, const std::vector<Vec3>& pts) {
         g.cellVolumes[c] /= 3.0;
     }
     return g;
+}
+
+}  // namespace mixload::post
+
+namespace mixload::post {
+
+std::string meshChecksum(const FoamMesh& mesh) {
+    std::string bytes;
+    const auto put = [&](const void* p, size_t n) { bytes.append(static_cast<const char*>(p), n); };
+    put(&mesh.nCells, sizeof mesh.nCells);
+    for (const auto& p : mesh.points) put(p.data(), sizeof(double) * 3);
+    for (const auto* v : {&mesh.faceOffsets, &mesh.facePoints, &mesh.owner, &mesh.neighbour}) {
+        const size_t n = v->size();
+        put(&n, sizeof n);
+        put(v->data(), sizeof(int32_t) * n);
+    }
+    for (const auto& p : mesh.patches) bytes += p.name + ' ' + p.type + ' ' + std::to_string(p.start) + ' ' + std::to_string(p.size) + '\n';
+    return stableHash(bytes);
 }
 
 }  // namespace mixload::post

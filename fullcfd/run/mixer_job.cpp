@@ -4,14 +4,17 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numeric>
 #include <regex>
 #include <sstream>
 
+#include "cases/meshed_geometry.hpp"
 #include "cases/mixer3d.hpp"
 #include "common/atomic_file.hpp"
 #include "common/clock.hpp"
 #include "common/input_error.hpp"
 #include "common/process.hpp"
+#include "post/mesh_geometry.hpp"
 #include "post/mixer_results.hpp"
 #include "post/run_profile.hpp"
 #include "run/foam_runner.hpp"
@@ -26,6 +29,13 @@ namespace fs = std::filesystem;
 
 namespace {
 bool isFieldFile(const fs::path& source) { return source.extension() == ".h5"; }
+
+post::FoamMesh readCaseMesh(const fs::path& caseDir) { return post::readPolyMesh(caseDir / "constant" / "polyMesh"); }
+
+double meshVolume(const post::FoamMesh& mesh) {
+    const auto v = post::meshGeometry(mesh).cellVolumes;
+    return std::accumulate(v.begin(), v.end(), 0.0);
+}
 
 constexpr const char* kContinued = "continued at the source's time";
 
@@ -195,6 +205,7 @@ fs::path defaultMixerDir(const scene::MixerScene& s, int np) {
 nlohmann::json runMixer(const MixerJob& job) {
     const auto& s = job.scene;
     s.validate();
+    cases::requireSceneGeometry(s);
     requireRange("np", job.np, 1, 256);
     // The sliding mesh's fragment transport (fullcfd/solver/fragmentAMI.H) keeps its fragments
     // on one process.
@@ -218,8 +229,18 @@ nlohmann::json runMixer(const MixerJob& job) {
             cases::writeMixerMeshCase(s, tmp, job.np);
             writeFileAtomic(tmp / "scene.json",
                             nlohmann::json{{"hash", s.hash()}, {"scene", s.toJson()}}.dump(2));
-            for (const auto& step : cases::mixerMeshSteps(s)) runUtility(tmp, step);
-            const auto mesh = post::readCheckMesh(tmp);
+            // The O-grid's blocks hold the whole barrel but the shaft: what subsetMesh removes from
+            // them is the impeller as meshed, measured here beside the boxes' volume.
+            double blocksVolume = 0;
+            for (const auto& step : cases::mixerMeshSteps(s)) {
+                runUtility(tmp, step);
+                if (s.mesher == "ogrid" && step.front() == "blockMesh") blocksVolume = meshVolume(readCaseMesh(tmp));
+            }
+            auto mesh = post::readCheckMesh(tmp);
+            const auto polyMesh = readCaseMesh(tmp);
+            mesh["checksum"] = post::meshChecksum(polyMesh);
+            mesh["geometry"] = cases::meshedGeometry(s).toJson();
+            if (blocksVolume > 0) mesh["geometry"]["paddle_volume_cut_m3"] = blocksVolume - meshVolume(polyMesh);
             writeFileAtomic(tmp / "mesh.json", mesh.dump(2));
             if (mesh.value("failed_checks", 0) > 0 && !mesh.value("ok", false))
                 throw RunError("checkMesh failed " + std::to_string(mesh.value("failed_checks", 0)) +

@@ -13,7 +13,7 @@
 namespace mixload::scene {
 
 // The scene a mixer command uses when none is named (data/scenes/<name>.toml).
-inline constexpr const char* kDefaultMixerScene = "gcm250-v2";
+inline constexpr const char* kDefaultMixerScene = "gcm250-v3";
 inline constexpr double kSlidingMeshMaxCourant = 0.5;
 // The sliding mesh's pcorr solves stop at 1e-3 of their initial residual: fragmentAMI.H repeats
 // them until the pairs' continuity error is below 1e-7 anyway (2-3 passes, each limited by the caps'

@@ -3,7 +3,7 @@
 # studies, in order, until SECONDS from now. A SPEC is either
 #   CAMPAIGN:JOBS[:WARM...]           a campaign of DIR, e.g. v2-holdout:1:--warm-from-campaign:v2
 #   study:OUT:JOBS:KIND[:ARGS...]     `mixload study KIND ARGS --out OUT`, e.g.
-#                                     study:/var/tmp/mixload/sm-compare:1:mixer:--scene:gcm250-v2:...
+#                                     study:/var/tmp/mixload/sm-compare:1:mixer:--scene:gcm250-v3:...
 # (colons in WARM and ARGS turn into spaces). Whenever fewer solvers run than cores (seen twice a
 # minute apart), it starts the first listed one with open work and no driver (nice 19,
 # --max-hours up to the end; campaigns with --snapshots), on at most JOBS solvers and no more than

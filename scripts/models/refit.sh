@@ -47,8 +47,9 @@ for mus in 10 32; do
 done
 
 # The model's Fig. 7 at the calibrated reference (docs/studies/formulation/fig7-model). The study
-# needs a reference run; two 0.05 s runs on 2 cm stand for it and draw no points.
-"$mixload" study formulation --scene gcm250-v2 --cell-size 0.02 --end-time 0.05 --variant rho12:rho=1.2 \
+# needs a reference run; two 0.05 s runs on 1 cm stand for it and draw no points (2 cm cannot cut the
+# scene's paddles and refuses).
+"$mixload" study formulation --scene gcm250-v3 --end-time 0.05 --variant rho12:rho=1.2 \
   --model "$krig" --out "$tmp/fig7" --json > /dev/null
 keep "$tmp/fig7" docs/studies/formulation/fig7-model fig7.md fig7.csv fig7.png
 

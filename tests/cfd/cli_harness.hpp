@@ -24,3 +24,13 @@ void expectRejected(const std::string& subcommand, std::vector<std::string> args
                     const std::string& needle);
 
 }  // namespace mixload::testing
+
+namespace mixload::testing {
+// Test scenes whose paddles the CI's coarse meshes can cut (tests/data/scenes): the shipped scenes'
+// paddles need finer cells, and their runs refuse on these meshes.
+inline const std::string kGcm250At1cm = MIXLOAD_TEST_DATA "/scenes/gcm250-1cm.toml";
+inline const std::string kGcm250At2cm = MIXLOAD_TEST_DATA "/scenes/gcm250-2cm.toml";
+inline const std::string kV3At2cm = MIXLOAD_TEST_DATA "/scenes/v3-2cm.toml";
+// A 1 mm feed port on 1 cm cells: the mesh has no inlet face.
+inline const std::string kPinholeInlet1cm = MIXLOAD_TEST_DATA "/scenes/gcm250-1cm-pinhole.toml";
+}  // namespace mixload::testing

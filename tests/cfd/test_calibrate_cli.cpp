@@ -20,7 +20,7 @@ namespace {
 std::vector<std::string> tinyArgs(const fs::path& dir, const std::string& maxEvals) {
     return {"calibrate", "mixer", "--name", "tiny", "--dir", dir.string(), "--cell-size", "0.01",
             "--end-time", "0.05", "--allow-unsteady", "--param", "operation.initial_loading_kg=0.1:0.4",
-            "--target", "39:5:0.2", "--max-evals", maxEvals, "--json", "--scene", "gcm250"};
+            "--target", "39:5:0.2", "--max-evals", maxEvals, "--json", "--scene", kGcm250At1cm};
 }
 
 nlohmann::json parsed(const CliResult& r) {
@@ -82,7 +82,7 @@ TEST(CalibrateCli, SizedDepositsFollowTheEvaluationsSoFar) {
     // Over 0.05 s the loading is the deposit whatever the bore: the third run starts from the
     // loading the first two measured (interpolated), not from the scene's 0.3 kg.
     const fs::path dir = scratchDir("calibrate-deposit");
-    const auto r = runMixload({"calibrate", "mixer", "--name", "dep", "--dir", dir.string(), "--scene", "gcm250", "--cell-size", "0.01",
+    const auto r = runMixload({"calibrate", "mixer", "--name", "dep", "--dir", dir.string(), "--scene", kGcm250At1cm, "--cell-size", "0.01",
                                "--end-time", "0.05", "--allow-unsteady", "--param", "barrel.bore_m=0.09:0.12:0.1",
                                "--target", "39:5:0.2", "--max-evals", "3", "--size-deposit", "--json"});
     const auto j = parsed(r);
@@ -110,7 +110,7 @@ TEST(CalibrateCli, BadInputIsRefusedBeforeAnyRun) {
         {{"--param", "operation.initial_loading_kg=0.1:0.4", "--target", "39:5:0.3", "--size-deposit"}, "size-deposit"},
     };
     for (const auto& [extra, needle] : cases) {
-        std::vector<std::string> args{"calibrate", "mixer", "--name", "bad", "--dir", dir.string(), "--scene", "gcm250", "--cell-size", "0.01"};
+        std::vector<std::string> args{"calibrate", "mixer", "--name", "bad", "--dir", dir.string(), "--scene", kGcm250At1cm, "--cell-size", "0.01"};
         args.insert(args.end(), extra.begin(), extra.end());
         const auto r = runMixload(args);
         EXPECT_EQ(r.rc, 2) << needle << ": " << r.err;
@@ -219,16 +219,16 @@ TEST(StressCli, ACollapseThatLosesPowderIsRefusedNotReported) {
 }
 
 TEST(StressCli, AMeshWithoutAnInletFaceIsRefusedBeforeTheSolver) {
-    // At 3 cm the feed inlet has no face; the solver used to die of a floating-point exception.
+    // A feed port narrower than a cell has no face; the solver used to die of a floating-point exception.
     const fs::path dir = scratchDir("stress-no-inlet");
-    const auto r = runMixload({"mixer", "--scene", "gcm250-v2", "--cell-size", "0.03", "--end-time", "0.1", "--out",
+    const auto r = runMixload({"mixer", "--scene", kPinholeInlet1cm, "--cell-size", "0.01", "--end-time", "0.1", "--out",
                                (dir / "run").string(), "--json"});
     EXPECT_EQ(r.rc, 1) << r.err;
     EXPECT_NE(r.err.find("no face on the inlet patch"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(dir / "run"));
     // A campaign whose runs fail that way says so on stderr, with --json too.
     ASSERT_EQ(runMixload({"campaign", "create", "c", "--ranges", MIXLOAD_SOURCE_DIR "/data/campaigns/mixer-v2-ranges.toml", "--n",
-                          "2", "--cell-size", "0.03", "--end-time", "0.1", "--dir", dir.string()})
+                          "2", "--scene", kPinholeInlet1cm, "--cell-size", "0.01", "--end-time", "0.1", "--dir", dir.string()})
                   .rc,
               0);
     const auto c = runMixload({"campaign", "run", "c", "--dir", dir.string(), "--json"});

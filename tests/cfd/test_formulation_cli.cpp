@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 TEST(FormulationStudy, RunsTheReferenceAndEachVariantAndJudgesOnlySteadyRuns) {
     const fs::path out = scratchDir("formulation") / "study";
     const std::string model = std::string(MIXLOAD_DATA_DIR) + "/models/mixer-loading-kriging.json";
-    const auto r = runMixload({"study", "formulation", "--variant", "denser:rho=1.5,mu_s=0.9", "--scene", "gcm250", "--cell-size", "0.01",
+    const auto r = runMixload({"study", "formulation", "--variant", "denser:rho=1.5,mu_s=0.9", "--scene", kGcm250At1cm, "--cell-size", "0.01",
                                "--end-time", "0.05", "--model", model, "--out", out.string(), "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
@@ -60,7 +60,7 @@ TEST(FormulationStudy, RunsTheReferenceAndEachVariantAndJudgesOnlySteadyRuns) {
     for (const char* f : {"table.md", "table.csv", "formulation.png", "study.json"})
         EXPECT_TRUE(fs::exists(out / f)) << f;
     // Run again: both runs come from the run store.
-    const auto again = runMixload({"study", "formulation", "--variant", "denser:rho=1.5,mu_s=0.9", "--scene", "gcm250", "--cell-size",
+    const auto again = runMixload({"study", "formulation", "--variant", "denser:rho=1.5,mu_s=0.9", "--scene", kGcm250At1cm, "--cell-size",
                                    "0.01", "--end-time", "0.05", "--out", out.string(), "--json"});
     ASSERT_EQ(again.rc, 0) << again.err;
     EXPECT_EQ(nlohmann::json::parse(again.out)["rows"][0]["loading_kg"], row["loading_kg"]);
@@ -70,7 +70,7 @@ TEST(FormulationStudy, StopsAtMaxHoursAndTheSameCommandResumes) {
     // A six-level Fig. 7 is tens of core-hours: the study runs in slices. Stopped, its runs are
     // open (not failed, exit 0) and the same command finishes them.
     const fs::path out = scratchDir("formulation-slices") / "study";
-    const std::vector<std::string> args{"study", "formulation", "--variant", "denser:rho=1.2", "--scene", "gcm250", "--cell-size", "0.02",
+    const std::vector<std::string> args{"study", "formulation", "--variant", "denser:rho=1.2", "--scene", kGcm250At2cm, "--cell-size", "0.02",
                                         "--end-time", "0.05", "--out", out.string(), "--json"};
     auto sliced = args;
     sliced.insert(sliced.end(), {"--max-hours", "0.00001"});
@@ -106,11 +106,11 @@ TEST(FormulationStudy, WarmFromARunStartsEveryRunFromItsFieldsInRunsOfTheirOwn) 
     // source's loading, the denser variant with 1.5 times it (the same powder volume). Warm runs
     // live beside cold ones under their own names; a bad source stops the study before any run.
     const fs::path dir = scratchDir("formulation-warm");
-    const auto src = runMixload({"mixer", "--scene", "gcm250", "--cell-size", "0.01", "--end-time", "0.05", "--out",
+    const auto src = runMixload({"mixer", "--scene", kGcm250At1cm, "--cell-size", "0.01", "--end-time", "0.05", "--out",
                                  (dir / "source").string(), "--json"});
     ASSERT_EQ(src.rc, 0) << src.err;
     const double m0 = nlohmann::json::parse(src.out)["final_loading_kg"].get<double>();
-    const auto r = runMixload({"study", "formulation", "--variant", "denser:rho=1.5", "--scene", "gcm250",
+    const auto r = runMixload({"study", "formulation", "--variant", "denser:rho=1.5", "--scene", kGcm250At1cm,
                                "--cell-size", "0.01", "--end-time", "0.03", "--warm-from", (dir / "source").string(),
                                "--out", (dir / "study").string(), "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
@@ -152,4 +152,14 @@ TEST(FormulationStudy, FidelityPilotPairsTheTwoMeshesRuns) {
     EXPECT_EQ(r.rc, 2);
     EXPECT_NE(r.err.find("study.json"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(out / "q"));
+    // Two meshes that cut different paddles are two impellers, not two resolutions: refused.
+    auto other = nlohmann::json::parse(mixload::readFile(MIXLOAD_TEST_DATA "/fidelity/coarse/study.json"));
+    other["reference"]["impeller"]["paddle_thickness_m"] = 0.0282;
+    fs::create_directories(out / "thick");
+    std::ofstream(out / "thick" / "study.json") << other.dump();
+    r = runMixload({"study", "fidelity", "--fine", MIXLOAD_TEST_DATA "/fidelity/fine", "--coarse", (out / "thick").string(),
+                    "--out", (out / "t").string()});
+    EXPECT_EQ(r.rc, 2);
+    EXPECT_NE(r.err.find("another impeller"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out / "t"));
 }

@@ -96,7 +96,7 @@ TEST(FvOperators, AgreeWithOpenFoamOnACollapse) {
 
 TEST(FvOperators, AgreeWithOpenFoamOnAMixer) {
     const fs::path run = scratchDir("fvops-mixer") / "run";
-    const auto r = runMixload({"mixer", "--scene", "gcm250", "--cell-size", "0.01", "--end-time", "0.05", "--out",
+    const auto r = runMixload({"mixer", "--scene", kGcm250At1cm, "--cell-size", "0.01", "--end-time", "0.05", "--out",
                                run.string(), "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
     checkOperators(run);
@@ -104,7 +104,7 @@ TEST(FvOperators, AgreeWithOpenFoamOnAMixer) {
 
 TEST(SteadyTransport, ConservesPowderAndRebuildsTheSolversFlux) {
     const fs::path run = scratchDir("steady-mixer") / "run";
-    auto r = runMixload({"mixer", "--scene", "gcm250", "--cell-size", "0.01", "--end-time", "0.05", "--out", run.string(), "--json"});
+    auto r = runMixload({"mixer", "--scene", kGcm250At1cm, "--cell-size", "0.01", "--end-time", "0.05", "--out", run.string(), "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
     const fs::path h5 = run / "steady.h5";
     r = runMixload({"snapshots", "export", run.string(), "-o", h5.string(), "--fields", "alpha,U,phi", "--float64"});

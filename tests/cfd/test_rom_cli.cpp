@@ -258,7 +258,7 @@ TEST(RomRegression, MixerCampaignReadsItsLoadingFromTheField) {
     // POD regression sees the runs in that surrogate's coordinates.
     const fs::path dir = scratchDir("rom-regression-mixer");
     snapshotCampaign(dir, "m", "scene = \"mixer\"\n[rho]\nmin = 300\nmax = 450\nunit = \"kg/m3\"\n",
-                     {"--n", "6", "--scene", "gcm250", "--cell-size", "0.01", "--end-time", "0.05"});
+                     {"--n", "6", "--scene", kGcm250At1cm, "--cell-size", "0.01", "--end-time", "0.05"});
     const auto r = runMixload({"rom", "regression", "--campaign", "m", "--dir", dir.string(), "--json"});
     ASSERT_EQ(r.rc, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
@@ -322,7 +322,7 @@ TEST(RomRegression, MixerCampaignReadsItsLoadingFromTheField) {
     const auto atJson = nlohmann::json::parse(at.out);
     const double predicted = atJson["loading_kg"].get<double>();
     EXPECT_GT(atJson["kriging"]["loading_kg"].get<double>(), 0.0);  // the surrogate's M beside it
-    const auto warm = runMixload({"mixer", "--scene", "gcm250", "--cell-size", "0.01", "--rho", "400", "--end-time",
+    const auto warm = runMixload({"mixer", "--scene", kGcm250At1cm, "--cell-size", "0.01", "--rho", "400", "--end-time",
                                   "0.02", "--warm-from", (dir / "at400.h5").string(), "--out",
                                   (dir / "warm400").string(), "--json"});
     ASSERT_EQ(warm.rc, 0) << warm.err;
@@ -330,7 +330,7 @@ TEST(RomRegression, MixerCampaignReadsItsLoadingFromTheField) {
     EXPECT_EQ(w["start"]["warm_from"], fs::absolute(dir / "at400.h5").string());
     EXPECT_NEAR(w["start"]["field_loading_kg"].get<double>(), predicted, 1e-6 * predicted);
     EXPECT_NEAR(w["initial_loading_kg"].get<double>(), predicted, 1e-3 * predicted);  // one step of flow
-    const auto other = runMixload({"mixer", "--scene", "gcm250", "--cell-size", "0.02", "--end-time", "0.02",
+    const auto other = runMixload({"mixer", "--scene", kGcm250At2cm, "--cell-size", "0.02", "--end-time", "0.02",
                                    "--warm-from", (dir / "at400.h5").string(), "--out", (dir / "other").string()});
     EXPECT_EQ(other.rc, 2) << other.err;
     EXPECT_NE(other.err.find("a field file of this run's mesh"), std::string::npos) << other.err;

@@ -22,14 +22,15 @@ namespace {
 // (README, "Cost of a steady point"; docs/studies/mixer-cost): at 39 rpm, 5 kg/h the legacy
 // settings' value (the current ones gave +0.27%); at 45 kg/h the current settings' values, because
 // the legacy runs were called steady on a plateau (0.0901 and 0.0345 kg) that runs differing from
-// them by round-off left, rising by 5-10%.
+// them by round-off left, rising by 5-10%. gcm250's 1 cm mesh is cell for cell the test scene
+// gcm250-1cm's (its paddles as that mesh cut them, 14.1 mm), which these runs now use.
 struct Point {
     double rpm, feed, referenceKg;
 };
 constexpr Point kPoints[] = {{39, 5, 0.024087}, {39, 45, 0.09921}, {254, 45, 0.03626}};
 
 nlohmann::json run(const fs::path& out, const Point& p, const std::string& warmFrom = "") {
-    std::vector<std::string> args{"mixer", "--scene", "gcm250", "--cell-size", "0.01", "--initial-loading-kg", "0.03",
+    std::vector<std::string> args{"mixer", "--scene", kGcm250At1cm, "--cell-size", "0.01", "--initial-loading-kg", "0.03",
                                   "--steady-tol", "0.01", "--steady-flow-tol", "0.03", "--rpm",
                                   std::to_string(p.rpm), "--feed-kg-h", std::to_string(p.feed),
                                   "--out", out.string(), "--json"};

@@ -166,7 +166,7 @@ mixload::experiments::CampaignSpec sobolMixerCampaign(const std::string& name, c
     spec.ranges = ranges.string();
     spec.design = "sobol";
     spec.n = n;
-    spec.scene = "gcm250-v2";
+    spec.scene = "gcm250-v3";
     mixload::experiments::createCampaign(spec);
     return spec;
 }
@@ -383,7 +383,7 @@ TEST(Ledger, WarmStartTakesTheRunWhoseLoadingIsNearestTheModelsPrediction) {
     spec.ranges = ranges.string();
     spec.design = "sobol";
     spec.n = 8;
-    spec.scene = "gcm250-v2";
+    spec.scene = "gcm250-v3";
     ex::createCampaign(spec);
     EXPECT_TRUE(ex::campaignWarmSource(spec.place, 7).empty());  // nothing finished: the deposit
     const auto finish = [&](int upTo) {
@@ -462,7 +462,7 @@ TEST(Ledger, WarmStartTakesTheRunWhoseLoadingIsNearestTheModelsPrediction) {
     // A pool on another base (another mesh) is refused: its fields would not fit the run's mesh.
     ex::CampaignSpec other = spec;
     other.place.name = "other";
-    other.cellSize = 0.02;
+    other.cellSize = 0.0075;
     ex::createCampaign(other);
     EXPECT_THROW(ex::campaignWarmSource(hold.place, 0, {other.place}), mixload::InputError);
     // So is one on the same base that varies other inputs: its runs have no place in this design.

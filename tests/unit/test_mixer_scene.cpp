@@ -49,7 +49,8 @@ TEST(MixerScene, DefaultSceneCarriesItsNumericsAndSteadyTest) {
     // The calibrated scene differs from gcm250 in geometry and carries the settings it was
     // calibrated with; gcm250 stays as it was (its ledgers' hashes).
     const auto v2 = scene::loadMixerScene(scene::kDefaultMixerScene), v1 = scene::loadMixerScene("gcm250");
-    EXPECT_EQ(v2.name, "gcm250-v2");
+    EXPECT_EQ(v2.name, "gcm250-v3");
+    EXPECT_DOUBLE_EQ(v2.geometry.paddleThickness, 0.01385);  // what its 1 cm mesh cuts
     EXPECT_DOUBLE_EQ(v2.geometry.bore, 0.165);
     EXPECT_DOUBLE_EQ(v2.geometry.weirChordDeg, 70.0);
     EXPECT_DOUBLE_EQ(v2.geometry.inletHeight, -0.035);
