@@ -8,6 +8,7 @@
 
 #include "app/commands.hpp"
 #include "campaign/campaign.hpp"
+#include "campaign/rebase.hpp"
 #include "campaign/retry.hpp"
 #include "common/input_error.hpp"
 #include "common/process.hpp"
@@ -258,6 +259,27 @@ void addCampaign(CLI::App& app, Action& action) {
                     std::cout << "  point " << r["of_index"] << " (M = " << formatNumber(r["loading_kg"].get<double>()) << " kg) again from "
                               << formatNumber(r["initial_loading_kg"].get<double>()) << " kg\n";
             if (!o->json) std::cout << "campaign " << o->spec.place.name << ": " << j["added"] << " replicates queued (" << j["points"] << " points)\n";
+            return 0;
+        };
+    });
+
+    auto* rb = camp->add_subcommand(
+        "rebase", "Move a mixer campaign onto a scene revision whose mesh is cell for cell its own (e.g. gcm250-v2 -> gcm250-v3 on 1 cm)");
+    rb->add_option("name", o->spec.place.name, "Campaign name")->required();
+    rb->add_option("--scene", o->spec.scene, "The new scene: a name in data/scenes or a .toml file")->required();
+    rb->add_option("--dir", o->spec.place.dir, "Where campaigns live")->capture_default_str();
+    rb->add_flag("--json", o->json, "Print JSON");
+    rb->callback([&action, o] {
+        action = [o] {
+            const auto j = experiments::rebaseCampaign(o->spec.place, o->spec.scene);
+            if (o->json) {
+                std::cout << j.dump(2) << '\n';
+                return 0;
+            }
+            std::cout << "campaign " << o->spec.place.name << ": " << j["from_scene"].get<std::string>() << " -> "
+                      << j["scene"].get<std::string>() << " (" << j["mesh"].get<std::string>() << " mesh, checksum "
+                      << j["mesh_checksum"].get<std::string>() << " on both), " << j["points"] << " points, "
+                      << j["moved_run_dirs"].size() << " unfinished run directories moved\n";
             return 0;
         };
     });

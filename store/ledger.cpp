@@ -207,6 +207,20 @@ void Ledger::addPoints(const std::string& campaign, const std::vector<nlohmann::
     tx.commit();
 }
 
+void Ledger::rebaseCampaign(const std::string& campaign, const nlohmann::json& sceneJson, const std::string& sceneHash,
+                            const std::vector<std::pair<long, nlohmann::json>>& params) {
+    Transaction tx(db_);
+    Stmt c(db_, "UPDATE campaigns SET scene_json = ?, scene_hash = ? WHERE name = ?");
+    c.bind(1, sceneJson.dump()).bind(2, sceneHash).bind(3, campaign);
+    c.step();
+    for (const auto& [id, p] : params) {
+        Stmt r(db_, "UPDATE runs SET params = ? WHERE id = ? AND campaign = ?");
+        r.bind(1, p.dump()).bind(2, static_cast<long long>(id)).bind(3, campaign);
+        r.step();
+    }
+    tx.commit();
+}
+
 std::optional<CampaignInfo> Ledger::campaign(const std::string& name) const {
     Stmt s(db_,
            "SELECT name, scene, scene_hash, scene_json, ranges_toml, design, seed, method, mesh,"

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -59,6 +60,10 @@ public:
     // Appends points (a design extension) after the existing ones, queued.
     void addPoints(const std::string& campaign, const std::vector<nlohmann::json>& points);
     std::optional<CampaignInfo> campaign(const std::string& name) const;
+    // Gives the campaign another base scene and its runs the parameters (scene hashes) under it, in
+    // one transaction (`campaign rebase`: a scene revision whose mesh is cell for cell the old one).
+    void rebaseCampaign(const std::string& campaign, const nlohmann::json& sceneJson, const std::string& sceneHash,
+                        const std::vector<std::pair<long, nlohmann::json>>& params);
 
     // Atomically takes the next run to do: a queued run, or (recover = true) one left "running" by
     // a driver that died; marks it running, counts the attempt. Runs with attempts >= maxAttempts

@@ -198,6 +198,31 @@ double warmSourceTime(const fs::path& source) {
     return t;
 }
 
+nlohmann::json buildMixerMesh(const scene::MixerScene& s, const fs::path& caseDir, int np) {
+    cases::writeMixerMeshCase(s, caseDir, np);
+    // The O-grid's blocks hold the whole barrel but the shaft: what subsetMesh removes from them is
+    // the impeller as meshed, measured here beside the boxes' volume.
+    double blocksVolume = 0;
+    for (const auto& step : cases::mixerMeshSteps(s)) {
+        runUtility(caseDir, step);
+        if (s.mesher == "ogrid" && step.front() == "blockMesh") blocksVolume = meshVolume(readCaseMesh(caseDir));
+    }
+    auto mesh = post::readCheckMesh(caseDir);
+    const auto polyMesh = readCaseMesh(caseDir);
+    mesh["checksum"] = post::meshChecksum(polyMesh);
+    mesh["geometry"] = cases::meshedGeometry(s).toJson();
+    if (blocksVolume > 0) mesh["geometry"]["paddle_volume_cut_m3"] = blocksVolume - meshVolume(polyMesh);
+    writeFileAtomic(caseDir / "mesh.json", mesh.dump(2));
+    if (mesh.value("failed_checks", 0) > 0 && !mesh.value("ok", false))
+        throw RunError("checkMesh failed " + std::to_string(mesh.value("failed_checks", 0)) + " checks; see " +
+                       (caseDir / "log.checkMesh").string());
+    for (const char* patch : {"inlet", "outlet"})
+        if (mesh.contains("patch_faces") && mesh["patch_faces"].value(patch, 1L) == 0)
+            throw RunError(std::string("the mesh has no face on the ") + patch + " patch (cell size " +
+                           formatNumber(s.cellSize) + " m is too coarse to resolve it): use a finer mesh");
+    return mesh;
+}
+
 fs::path defaultMixerDir(const scene::MixerScene& s, int np) {
     return fs::path("runs") / ("mixer-" + s.hash() + (np > 1 ? "-np" + std::to_string(np) : ""));
 }
@@ -226,29 +251,9 @@ nlohmann::json runMixer(const MixerJob& job) {
     const bool fresh = !job.reuse || !fs::exists(dir / "constant" / "polyMesh");
     if (fresh) {
         buildCaseAtomically(dir, [&](const fs::path& tmp) {
-            cases::writeMixerMeshCase(s, tmp, job.np);
             writeFileAtomic(tmp / "scene.json",
                             nlohmann::json{{"hash", s.hash()}, {"scene", s.toJson()}}.dump(2));
-            // The O-grid's blocks hold the whole barrel but the shaft: what subsetMesh removes from
-            // them is the impeller as meshed, measured here beside the boxes' volume.
-            double blocksVolume = 0;
-            for (const auto& step : cases::mixerMeshSteps(s)) {
-                runUtility(tmp, step);
-                if (s.mesher == "ogrid" && step.front() == "blockMesh") blocksVolume = meshVolume(readCaseMesh(tmp));
-            }
-            auto mesh = post::readCheckMesh(tmp);
-            const auto polyMesh = readCaseMesh(tmp);
-            mesh["checksum"] = post::meshChecksum(polyMesh);
-            mesh["geometry"] = cases::meshedGeometry(s).toJson();
-            if (blocksVolume > 0) mesh["geometry"]["paddle_volume_cut_m3"] = blocksVolume - meshVolume(polyMesh);
-            writeFileAtomic(tmp / "mesh.json", mesh.dump(2));
-            if (mesh.value("failed_checks", 0) > 0 && !mesh.value("ok", false))
-                throw RunError("checkMesh failed " + std::to_string(mesh.value("failed_checks", 0)) +
-                               " checks; see " + (tmp / "log.checkMesh").string());
-            for (const char* patch : {"inlet", "outlet"})
-                if (mesh.contains("patch_faces") && mesh["patch_faces"].value(patch, 1L) == 0)
-                    throw RunError(std::string("the mesh has no face on the ") + patch + " patch (cell size " +
-                                   formatNumber(s.cellSize) + " m is too coarse to resolve it): use a finer mesh");
+            buildMixerMesh(s, tmp, job.np);
             cases::writeMixerSolverCase(s, tmp);
             if (!job.warmFrom.empty() && isFieldFile(job.warmFrom)) {
                 writeFileAtomic(tmp / "start.json", warmStartFromField(s, tmp, job.warmFrom).dump(2));

@@ -32,6 +32,12 @@ struct MixerJob {
 // <run dir>/result.json. The scene is validated before anything is created.
 nlohmann::json runMixer(const MixerJob& job);
 
+// Writes the mesh case of a scene into caseDir and meshes it; returns (and writes to mesh.json)
+// checkMesh's figures, the impeller as meshed and the mesh's checksum. RunError when the mesh fails
+// its checks or has no inlet or outlet face. It does not check the scene's geometry (runMixer does):
+// `campaign rebase` meshes a superseded scene to show that its mesh is the new scene's.
+nlohmann::json buildMixerMesh(const scene::MixerScene& s, const std::filesystem::path& caseDir, int np = 1);
+
 // The latest time of a warm start's source; InputError (field warm-from) unless it is a mixer run
 // directory with a written time after 0 or a .h5 field file with a stored alpha.
 double warmSourceTime(const std::filesystem::path& source);

@@ -561,6 +561,68 @@ TEST(CampaignCli, AMixerRunStoppedAndResumedCountsBothSlices) {
     EXPECT_NE(readFile(dir / "s.csv").find(",done,"), std::string::npos);
 }
 
+// A scene revision whose mesh is cell for cell the campaign's takes the campaign over: the unfinished
+// point resumes in its directory (renamed to the new hash), the ledger names the new scene and the
+// rebase. A revision whose mesh differs, or that changes another input, is refused and changes nothing.
+TEST(CampaignCli, RebaseMovesACampaignOntoARevisionWithTheSameMesh) {
+    const fs::path dir = fs::canonical(scratchDir("campaign-rebase"));
+    const auto ranges = rangesFile(dir, "r", "scene = \"mixer\"\n[rho]\nmin = 300\nmax = 400\nunit = \"kg/m3\"\n");
+    const std::string text = readFile(kGcm250At2cm);
+    const auto revision = [&](const std::string& name, const std::string& from, const std::string& to) {
+        std::string t = text;
+        const auto at = t.find(from);
+        EXPECT_NE(at, std::string::npos) << from;
+        t.replace(at, from.size(), to);
+        const fs::path f = dir / (name + ".toml");
+        std::ofstream(f) << t;
+        return f.string();
+    };
+    const auto same = revision("same", "paddle_thickness_m = 0.0285", "paddle_thickness_m = 0.02851");
+    const auto thicker = revision("thicker", "paddle_thickness_m = 0.0285", "paddle_thickness_m = 0.031");
+    const auto faster = revision("faster", "\nfeed_kg_h = ", "\nfeed_kg_h = 1");
+    auto r = runMixload({"campaign", "create", "b", "--ranges", ranges.string(), "--n", "1", "--scene", kGcm250At2cm,
+                         "--cell-size", "0.02", "--end-time", "6", "--dir", dir.string()});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    r = runMixload({"campaign", "run", "b", "--max-hours", "0.0008", "--dir", dir.string(), "--json"});  // 2.9 s
+    ASSERT_EQ(r.rc, 0) << r.err;
+    ASSERT_TRUE(nlohmann::json::parse(r.out)["stopped_at_max_hours"].get<bool>()) << r.out;
+    const auto hashOf = [&] {
+        mixload::store::Ledger l(dir / "b" / "ledger.sqlite");
+        return l.runs("b").at(0).params.value("scene_hash", std::string());
+    };
+    const std::string before = hashOf();
+    ASSERT_TRUE(fs::is_directory(dir / "b" / "runs" / ("0-" + before)));
+    r = runMixload({"campaign", "rebase", "b", "--scene", thicker, "--dir", dir.string()});
+    EXPECT_EQ(r.rc, 2) << r.err;
+    EXPECT_NE(r.err.find("cell for cell"), std::string::npos) << r.err;
+    r = runMixload({"campaign", "rebase", "b", "--scene", faster, "--dir", dir.string()});
+    EXPECT_EQ(r.rc, 2) << r.err;
+    EXPECT_NE(r.err.find("feed_kg_h"), std::string::npos) << r.err;
+    EXPECT_EQ(hashOf(), before);
+    EXPECT_TRUE(fs::is_directory(dir / "b" / "runs" / ("0-" + before)));
+    r = runMixload({"campaign", "rebase", "b", "--scene", same, "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["scene"], same);
+    ASSERT_EQ(j["moved_run_dirs"].size(), 1u) << r.out;
+    const std::string after = hashOf();
+    EXPECT_NE(after, before);
+    EXPECT_FALSE(fs::exists(dir / "b" / "runs" / ("0-" + before)));
+    {
+        mixload::store::Ledger l(dir / "b" / "ledger.sqlite");
+        const auto base = l.campaign("b")->sceneJson;
+        EXPECT_EQ(base["scene"], same);
+        EXPECT_EQ(base["rebased"]["mesh_checksum"], j["mesh_checksum"]);
+    }
+    // The point resumes where it stood: two slices, one run directory, the new scene's hash.
+    r = runMixload({"campaign", "run", "b", "--dir", dir.string(), "--json"});
+    ASSERT_EQ(r.rc, 0) << r.err;
+    ASSERT_EQ(nlohmann::json::parse(r.out)["counts"]["done"], 1) << r.out;
+    const auto res = nlohmann::json::parse(readFile(dir / "b" / "runs" / ("0-" + after) / "result.json"));
+    EXPECT_EQ(res["slices"], 2);
+    EXPECT_EQ(res["scene_hash"], after);
+}
+
 TEST(CampaignCli, APointWhoseRunDirectoryIsLostResumesFromItsKeptProgress) {
     // A mixer point stopped at --max-hours keeps its latest fields and counted time beside the
     // ledger (progress.h5); with its run directory gone (a machine that came back empty) the next
