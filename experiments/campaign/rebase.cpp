@@ -96,7 +96,7 @@ nlohmann::json rebaseCampaign(const CampaignPlace& o, const std::string& sceneNa
         }
         params.emplace_back(r.id, p);
     }
-    ledger->rebaseCampaign(o.name, base, mixerSceneFor(base, nlohmann::json::object()).hash(), params);
+    ledger->rebaseCampaign(o.name, base, after.hash(), params);
     return {{"campaign", o.name}, {"from_scene", oldName}, {"scene", sceneName}, {"mesh", after.meshLabel()},
             {"mesh_checksum", is}, {"points", params.size()}, {"moved_run_dirs", moved}};
 }
